@@ -1,0 +1,1 @@
+"""Campaigns: parameter sweeps over the virtual lab, local or Dask executors."""

@@ -1,0 +1,1 @@
+"""Characterize the shake table: linear model, tuning, valve fit (report Section 4)."""

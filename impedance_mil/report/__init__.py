@@ -1,0 +1,1 @@
+"""Figures and HTML reports (the only package that imports matplotlib)."""

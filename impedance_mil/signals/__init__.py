@@ -1,0 +1,1 @@
+"""Ground motions, response spectra, multisines and FRF estimation (report Sections 4.5, 8.2)."""

@@ -1,0 +1,319 @@
+"""Linear-system value objects: continuous-time SISO transfer functions.
+
+Why our own class and not ``control.TransferFunction``: the MIL controller
+needs algebra on *improper* transfer functions (``H_uz = 1/H_zu`` has
+relative degree -3 until a filter is applied) and pole-zero cancellation
+with a *relative* tolerance.  python-control's ``minreal`` uses an absolute
+``tol`` on root distances, which with poles at 2*pi*110 rad/s and at the
+origin either cancels too much or too little.  Conversions to and from
+python-control and state space are provided for everything else.
+
+Convention: coefficients in descending powers of s, frequencies in Hz at
+the interface (:meth:`TransferFunction.frequency_response`) and rad/s
+inside the polynomials.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Iterable, Union
+
+import control
+import numpy as np
+import scipy.signal
+
+from .units import TWO_PI
+
+#: Default relative tolerance for pole-zero cancellation.
+CANCEL_RTOL = 1e-6
+
+Number = Union[int, float, complex, np.number]
+
+
+def _trim(coeffs: np.ndarray, rtol: float = 1e-13) -> np.ndarray:
+    """Drop leading coefficients that are negligible relative to the largest."""
+    c = np.atleast_1d(np.asarray(coeffs, dtype=float))
+    if c.size == 0:
+        return np.zeros(1)
+    scale = np.max(np.abs(c))
+    if scale == 0:
+        return np.zeros(1)
+    nz = np.nonzero(np.abs(c) > rtol * scale)[0]
+    return c[nz[0]:].copy()
+
+
+def _padd(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    n = max(a.size, b.size)
+    return np.pad(a, (n - a.size, 0)) + np.pad(b, (n - b.size, 0))
+
+
+def _real_poly(roots: Iterable[complex]) -> np.ndarray:
+    r = np.asarray(list(roots), dtype=complex)
+    if r.size == 0:
+        return np.ones(1)
+    return np.real(np.poly(r))
+
+
+@dataclass(frozen=True, eq=False)
+class TransferFunction:
+    """A continuous-time SISO transfer function ``num(s)/den(s)``.
+
+    Parameters
+    ----------
+    num, den : array_like
+        Polynomial coefficients in descending powers of s.  The result is
+        normalised so that ``den`` is monic; improper functions
+        (``deg num > deg den``) are allowed.
+
+    Examples
+    --------
+    >>> H = TransferFunction([1.0], [1.0, 2.0])
+    >>> (H * H.inv()).minreal().num
+    array([1.])
+    """
+
+    num: np.ndarray
+    den: np.ndarray
+
+    def __post_init__(self):
+        num = _trim(self.num)
+        den = _trim(self.den)
+        if den.size == 1 and den[0] == 0:
+            raise ZeroDivisionError("transfer function with a zero denominator")
+        lead = den[0]
+        object.__setattr__(self, "num", num / lead)
+        object.__setattr__(self, "den", den / lead)
+        self.num.setflags(write=False)
+        self.den.setflags(write=False)
+
+    # ------------------------------------------------------------------ build
+    @classmethod
+    def constant(cls, k: float) -> "TransferFunction":
+        """The static gain ``k``."""
+        return cls([float(k)], [1.0])
+
+    @classmethod
+    def s(cls) -> "TransferFunction":
+        """The Laplace variable ``s``."""
+        return cls([1.0, 0.0], [1.0])
+
+    @classmethod
+    def from_ss(cls, A, B, C, D=0.0) -> "TransferFunction":
+        """Transfer function of a SISO state-space model ``(A, B, C, D)``."""
+        A = np.atleast_2d(np.asarray(A, dtype=float))
+        B = np.asarray(B, dtype=float).reshape(-1, 1)
+        C = np.asarray(C, dtype=float).reshape(1, -1)
+        D = np.asarray(D, dtype=float).reshape(1, 1)
+        num, den = scipy.signal.ss2tf(A, B, C, D)
+        return cls(num[0], den)
+
+    @classmethod
+    def from_zpk(cls, zeros, poles, gain: float) -> "TransferFunction":
+        """Build from zeros, poles [rad/s] and the gain of the monic factors."""
+        return cls(gain * _real_poly(zeros), _real_poly(poles))
+
+    @classmethod
+    def from_control(cls, sys) -> "TransferFunction":
+        """Convert a SISO ``control.TransferFunction`` or ``StateSpace``."""
+        tf = control.tf(sys)
+        return cls(np.asarray(tf.num[0][0], float), np.asarray(tf.den[0][0], float))
+
+    # ------------------------------------------------------------- properties
+    @property
+    def order(self) -> int:
+        """Degree of the denominator."""
+        return self.den.size - 1
+
+    @property
+    def relative_degree(self) -> int:
+        """``deg den - deg num``; negative for an improper function."""
+        if self.is_zero:
+            return 0
+        return (self.den.size - 1) - (self.num.size - 1)
+
+    @property
+    def is_zero(self) -> bool:
+        return self.num.size == 1 and self.num[0] == 0
+
+    @property
+    def is_proper(self) -> bool:
+        return self.relative_degree >= 0
+
+    @property
+    def is_strictly_proper(self) -> bool:
+        return self.relative_degree > 0
+
+    def poles(self) -> np.ndarray:
+        """Roots of the denominator [rad/s]."""
+        return np.roots(self.den) if self.den.size > 1 else np.zeros(0, complex)
+
+    def zeros(self) -> np.ndarray:
+        """Roots of the numerator [rad/s]."""
+        return np.roots(self.num) if self.num.size > 1 else np.zeros(0, complex)
+
+    def is_stable(self, margin: float = 0.0) -> bool:
+        """True when every pole has real part < ``-margin`` [rad/s]."""
+        p = self.poles()
+        return bool(np.all(p.real < -margin)) if p.size else True
+
+    def dcgain(self) -> float:
+        """Value at s = 0 (inf where the function has a pole at the origin)."""
+        if self.den[-1] == 0:
+            return float("inf") if self.num[-1] != 0 else float("nan")
+        return float(self.num[-1] / self.den[-1])
+
+    # --------------------------------------------------------------- evaluate
+    def __call__(self, s):
+        """Evaluate at complex frequency ``s`` [rad/s]."""
+        s = np.asarray(s, dtype=complex)
+        return np.polyval(self.num, s) / np.polyval(self.den, s)
+
+    def frequency_response(self, f_hz) -> np.ndarray:
+        """Complex response at frequencies ``f_hz`` [Hz]."""
+        return self(1j * TWO_PI * np.asarray(f_hz, dtype=float))
+
+    # ---------------------------------------------------------------- algebra
+    def _coerce(self, other) -> "TransferFunction":
+        if isinstance(other, TransferFunction):
+            return other
+        if isinstance(other, (int, float, np.number)):
+            return TransferFunction.constant(float(other))
+        return NotImplemented
+
+    def __add__(self, other):
+        o = self._coerce(other)
+        if o is NotImplemented:
+            return o
+        num = _padd(np.polymul(self.num, o.den), np.polymul(o.num, self.den))
+        return TransferFunction(num, np.polymul(self.den, o.den))
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return TransferFunction(-self.num, self.den)
+
+    def __sub__(self, other):
+        o = self._coerce(other)
+        if o is NotImplemented:
+            return o
+        return self + (-o)
+
+    def __rsub__(self, other):
+        return (-self) + other
+
+    def __mul__(self, other):
+        o = self._coerce(other)
+        if o is NotImplemented:
+            return o
+        return TransferFunction(np.polymul(self.num, o.num), np.polymul(self.den, o.den))
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other):
+        o = self._coerce(other)
+        if o is NotImplemented:
+            return o
+        return self * o.inv()
+
+    def __rtruediv__(self, other):
+        return self.inv() * other
+
+    def inv(self) -> "TransferFunction":
+        """The reciprocal ``den/num`` (may be improper)."""
+        if self.is_zero:
+            raise ZeroDivisionError("inverse of a zero transfer function")
+        return TransferFunction(self.den, self.num)
+
+    def feedback(self, other=1.0, sign: int = -1) -> "TransferFunction":
+        """Closed loop ``self / (1 - sign*self*other)`` (negative feedback by default)."""
+        o = self._coerce(other)
+        num = np.polymul(self.num, o.den)
+        den = _padd(np.polymul(self.den, o.den), -sign * np.polymul(self.num, o.num))
+        return TransferFunction(num, den)
+
+    # ----------------------------------------------------------- cancellation
+    def minreal(self, rtol: float = CANCEL_RTOL) -> "TransferFunction":
+        """Cancel common poles and zeros with a relative tolerance.
+
+        A zero ``z`` and a pole ``p`` cancel when
+        ``|z - p| <= rtol * max(|z|, |p|)``; common factors of ``s`` (exact
+        roots at the origin, recognised from trailing coefficients that are
+        negligible relative to the polynomial's scale) cancel first.
+
+        Parameters
+        ----------
+        rtol : float
+            Relative tolerance (dimensionless).
+        """
+        if self.is_zero:
+            return TransferFunction.constant(0.0)
+        num, den = self.num.copy(), self.den.copy()
+        # Strip common powers of s exactly, so that the origin is not left to root-finding.
+        while num.size > 1 and den.size > 1 and _negligible_tail(num) and _negligible_tail(den):
+            num, den = num[:-1], den[:-1]
+        gain = num[0] / den[0]
+        zeros = list(np.roots(num)) if num.size > 1 else []
+        poles = list(np.roots(den)) if den.size > 1 else []
+        kept_zeros = []
+        for z in zeros:
+            match = None
+            best = np.inf
+            for i, p in enumerate(poles):
+                dist = abs(z - p)
+                if dist <= rtol * max(abs(z), abs(p)) and dist < best:
+                    match, best = i, dist
+            if match is None:
+                kept_zeros.append(z)
+            else:
+                poles.pop(match)
+        return TransferFunction(gain * _real_poly(kept_zeros), _real_poly(poles))
+
+    # ------------------------------------------------------------ comparisons
+    def isclose(self, other: "TransferFunction", rtol: float = 1e-9) -> bool:
+        """Coefficient-wise comparison after normalisation (same degrees required)."""
+        if self.num.size != other.num.size or self.den.size != other.den.size:
+            return False
+        return bool(np.allclose(self.num, other.num, rtol=rtol, atol=0)
+                    and np.allclose(self.den, other.den, rtol=rtol, atol=0))
+
+    # ------------------------------------------------------------- conversion
+    def to_control(self):
+        """As a ``control.TransferFunction`` (proper functions only for simulation)."""
+        return control.tf(self.num, self.den)
+
+    def to_ss(self):
+        """Controllable-canonical state space ``(A, B, C, D)`` of a proper function."""
+        if not self.is_proper:
+            raise ValueError("an improper transfer function has no state-space realization")
+        A, B, C, D = scipy.signal.tf2ss(self.num, self.den)
+        return A, B, C, D
+
+    def to_dict(self) -> dict:
+        """``{"num": [...], "den": [...]}`` in descending powers of s."""
+        return {"num": [float(c) for c in self.num], "den": [float(c) for c in self.den]}
+
+    def __repr__(self) -> str:
+        return f"TransferFunction(num={self.num.tolist()}, den={self.den.tolist()})"
+
+
+def _negligible_tail(c: np.ndarray, rtol: float = 1e-12) -> bool:
+    return abs(c[-1]) <= rtol * np.max(np.abs(c))
+
+
+def pole_table(poles: np.ndarray) -> list[dict]:
+    """Frequency [Hz], damping ratio and position [rad/s] of each pole.
+
+    Poles are sorted by frequency; a conjugate pair appears twice (as in the
+    report's Tables 4.2 and 4.3).  A pole at the origin has frequency 0 and
+    damping ``nan``; a pole in the right half plane has negative damping.
+    """
+    rows = []
+    for p in sorted(np.asarray(poles, dtype=complex), key=lambda q: (abs(q), q.imag)):
+        w = abs(p)
+        rows.append({
+            "frequency_hz": float(w / TWO_PI),
+            "damping": float(-p.real / w) if w > 0 else float("nan"),
+            "real": float(p.real),
+            "imag": float(p.imag),
+        })
+    return rows

@@ -1,0 +1,1 @@
+"""Virtual systems (isolators) the table imitates: SD, LR, FP and user-defined (report Section 5)."""

@@ -1,0 +1,79 @@
+"""Tests of the transfer-function value object (impedance_mil.systems)."""
+
+import numpy as np
+import pytest
+
+from impedance_mil.systems import TransferFunction, pole_table
+
+TWO_PI = 2 * np.pi
+
+
+def test_denominator_is_monic_and_leading_zeros_trimmed():
+    H = TransferFunction([0.0, 2.0, 4.0], [2.0, 6.0, 8.0])
+    np.testing.assert_allclose(H.den, [1.0, 3.0, 4.0])
+    np.testing.assert_allclose(H.num, [1.0, 2.0])
+
+
+def test_inverse_of_relative_degree_three_is_improper_and_cancels_exactly():
+    # H_zu-like: s^2 / ((s+a)(s+b)(s^2+2 z w s + w^2) s)  (relative degree 3)
+    a, b, w, z = TWO_PI * 70, TWO_PI * 110, TWO_PI * 27, 0.09
+    den = np.polymul(np.polymul([1, a], [1, b]), np.polymul([1, 2 * z * w, w**2], [1, 5.0]))
+    H = TransferFunction([3e9, 0, 0], den)
+    Hinv = H.inv()
+    assert Hinv.relative_degree == -3 and not Hinv.is_proper
+    one = (H * Hinv).minreal()
+    np.testing.assert_allclose(one.num, [1.0], rtol=1e-9)
+    np.testing.assert_allclose(one.den, [1.0])
+
+
+def test_relative_tolerance_cancels_far_and_near_roots_alike():
+    # Poles at -1e-3 and -1e4 rad/s, each with a zero perturbed by a relative 1e-9:
+    # an absolute tolerance cannot treat both; a relative one does.
+    p1, p2 = -1e-3, -1e4
+    H = TransferFunction.from_zpk([p1 * (1 + 1e-9), p2 * (1 + 1e-9)], [p1, p2, -3.0], 2.0)
+    R = H.minreal(rtol=1e-6)
+    assert R.order == 1
+    np.testing.assert_allclose(R.poles(), [-3.0])
+    # ...but does not cancel a zero 1% away from a pole.
+    H2 = TransferFunction.from_zpk([p2 * 1.01], [p2, -3.0], 2.0)
+    assert H2.minreal(rtol=1e-6).order == 2
+
+
+def test_common_powers_of_s_cancel_exactly():
+    H = TransferFunction([1.0, 0.0, 0.0], [1.0, 3.0, 2.0, 0.0])
+    R = H.minreal()
+    np.testing.assert_allclose(R.num, [1.0, 0.0])
+    np.testing.assert_allclose(R.den, [1.0, 3.0, 2.0])
+
+
+def test_algebra_matches_frequency_response_pointwise():
+    H1 = TransferFunction([1.0, 2.0], [1.0, 0.5, 4.0])
+    H2 = TransferFunction([3.0], [1.0, 7.0])
+    f = np.logspace(-1, 2, 50)
+    for expr, ref in [
+        (H1 + H2, H1.frequency_response(f) + H2.frequency_response(f)),
+        (H1 - H2, H1.frequency_response(f) - H2.frequency_response(f)),
+        (H1 * H2, H1.frequency_response(f) * H2.frequency_response(f)),
+        (H1 / H2, H1.frequency_response(f) / H2.frequency_response(f)),
+        (H1.feedback(H2), H1.frequency_response(f) / (1 + H1.frequency_response(f) * H2.frequency_response(f))),
+        (2.0 * H1 + 1.0, 2.0 * H1.frequency_response(f) + 1.0),
+    ]:
+        np.testing.assert_allclose(expr.frequency_response(f), ref, rtol=1e-10)
+
+
+def test_state_space_round_trip():
+    H = TransferFunction([2.0, 1.0], [1.0, 3.0, 5.0, 7.0])
+    A, B, C, D = H.to_ss()
+    assert TransferFunction.from_ss(A, B, C, D).isclose(H, rtol=1e-10)
+    with pytest.raises(ValueError):
+        H.inv().to_ss()
+
+
+def test_pole_table_frequency_and_damping():
+    w, z = TWO_PI * 27, 0.09
+    p = -z * w + 1j * w * np.sqrt(1 - z**2)
+    rows = pole_table([p, np.conj(p), -TWO_PI * 70])
+    assert rows[0]["frequency_hz"] == pytest.approx(27.0)
+    assert rows[0]["damping"] == pytest.approx(0.09)
+    assert rows[2]["frequency_hz"] == pytest.approx(70.0)
+    assert rows[2]["damping"] == pytest.approx(1.0)
