@@ -13,7 +13,7 @@ import sys
 import typer
 
 from ..errors import ImilError
-from . import demo, motion, table, vs
+from . import demo, design_cmd, export, motion, table, vs
 
 app = typer.Typer(
     name="imil",
@@ -26,6 +26,8 @@ app.add_typer(table.app, name="table")
 app.add_typer(vs.app, name="vs")
 app.add_typer(motion.app, name="motion")
 app.command("demo")(demo.demo)
+app.command("design")(design_cmd.design)
+app.command("export")(export.export)
 
 #: Exit status for bad input (configuration, data files, usage).
 EXIT_BAD_INPUT = 2
