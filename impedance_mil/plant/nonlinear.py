@@ -1,0 +1,475 @@
+"""Nonlinear "virtual table": servovalve, orifice flow, compressible chambers (report Eq 4-3..4-8).
+
+The physics of report Section 4.3 without the linearization of Eq 4-9:
+
+* **Servovalve** (Eq 4-3): second-order spool dynamics with two real poles
+  ``alpha_1, alpha_2``; the spool state ``s`` is expressed in *mA-equivalent*
+  (the current that would hold the spool there statically), so that it is the
+  state ``x4`` of Eq 4-11.  The port opening saturates at the rated current
+  (full opening).
+* **Orifice flow** (Eq 4-5): ``Q = K_q * s * f(dp)`` with the square-root law
+  ``f(dp) ~ sign(dp) * sqrt(|dp|)`` through the metering edge that is open:
+  for ``s > 0`` supply feeds chamber 1 and chamber 2 drains to return, for
+  ``s < 0`` the roles are reversed.  The signed form handles reverse flow
+  (chamber pressure above supply).  ``f`` is regularised below the laminar
+  pressure ``p_lam`` as ``f(dp) = dp / (dp**2 + p_lam**2)**0.25`` so that
+  its slope stays finite at ``dp = 0`` (fixed-step integration stays stable);
+  above a few ``p_lam`` it is the square root to within 0.1 %.
+* **Chambers** (Eq 4-6, 4-8c,d): ``dP_i/dt = kappa/V_i * (flow in)``, volumes
+  ``V_1 = A_p (x_m + x) + V_dead``, ``V_2 = A_p (x_m - x) + V_dead`` change
+  with stroke, plus cross-piston leakage ``K_l (P_1 - P_2)``.
+* **Table** (Eq 4-7): ``m_st * z = A_p * dP + w - F_friction + F_endstop``;
+  friction at rails and seals is Coulomb (smoothed with ``tanh``) plus
+  viscous; beyond the end of stroke ``+-x_m`` a stiff cushion stops the table.
+* **Hydraulic loop** (Section 4.3.4): ``u_v(k) = K_e (u(k) - x(k-1)) - K_p dP(k-1)``
+  evaluated at the loop time with the measurements of the previous loop,
+  limited to ``+-valve_command_limit`` and held (ZOH); the VC2124 driver gives
+  ``u_i = K_v u_v``.
+
+Physical parameters are *derived* from the linear model's parameters
+(:meth:`NonlinearTable.from_linear`) so that the small-signal linearization
+at equilibrium (``P_1 = P_2 = (P_s + P_R)/2``, ``x = v = s = 0``) is Eq 4-11
+exactly: the bulk modulus from Eq 4-10a, the leakage from Eq 4-10b and the
+flow gain from Eq 4-12 (see ``docs/lab.md``).
+
+The derivative is written once, as numba kernels on a parameter array; the
+Python methods, the linearization and the compiled lab loop all call them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numba import njit
+
+from ..errors import ConfigError
+from ..units import TWO_PI
+
+# --------------------------------------------------------------------------- layout
+#: Table state layout (indices into the state vector).
+IX_X, IX_V, IX_P1, IX_P2, IX_S, IX_SD = 0, 1, 2, 3, 4, 5
+#: Number of table states: x [in], v [in/s], P1 [psi], P2 [psi], s [mA], ds/dt [mA/s].
+N_TABLE_STATES = 6
+TABLE_STATE_NAMES = ("x", "v", "P1", "P2", "spool", "spool_rate")
+
+# Parameter-array layout (one definition, used by every kernel).
+(PA_AREA, PA_MID, PA_MASS, PA_KAPPA, PA_KL, PA_KQ, PA_VDEAD, PA_PS, PA_PR,
+ PA_PLAM, PA_A1, PA_A2, PA_SMAX, PA_FC, PA_FV, PA_VSMOOTH, PA_KSTOP, PA_CSTOP,
+ PA_KE, PA_KP, PA_KV, PA_UVMAX, PA_LOOP) = range(23)
+N_PARAMS = 23
+
+
+# --------------------------------------------------------------------------- kernels
+@njit(cache=True)
+def orifice(dp, p_lam):
+    """Signed square-root law ``dp / (dp^2 + p_lam^2)^(1/4)`` [sqrt(psi)]."""
+    return dp / (dp * dp + p_lam * p_lam) ** 0.25
+
+
+@njit(cache=True)
+def port_flows(pa, s, p1, p2):
+    """Flow into chamber 1 and out of chamber 2 [in^3/s] for spool ``s`` [mA] (Eq 4-5)."""
+    smax = pa[PA_SMAX]
+    opening = min(max(s, -smax), smax)
+    kq = pa[PA_KQ]
+    plam = pa[PA_PLAM]
+    if opening >= 0.0:
+        q1 = kq * opening * orifice(pa[PA_PS] - p1, plam)
+        q2 = kq * opening * orifice(p2 - pa[PA_PR], plam)
+    else:
+        q1 = kq * opening * orifice(p1 - pa[PA_PR], plam)
+        q2 = kq * opening * orifice(pa[PA_PS] - p2, plam)
+    return q1, q2
+
+
+@njit(cache=True)
+def table_derivative(pa, xt, current, w_state, w_feed, out):
+    """Time derivative of the table states; returns the table acceleration z [in/s^2].
+
+    Parameters
+    ----------
+    pa : ndarray
+        Parameter array (:meth:`NonlinearTable.parameter_array`).
+    xt : ndarray
+        Table state (layout ``TABLE_STATE_NAMES``).
+    current : float
+        Valve current u_i [mA].
+    w_state, w_feed : float
+        Force of the test article on the table is ``w = w_state + w_feed * z``
+        [lbf] (``w_feed`` [lbf*s^2/in] is the specimen's feedthrough, e.g.
+        ``-M`` for a rigid mass M); the algebraic loop is solved here.
+    out : ndarray
+        Receives the derivative.
+    """
+    area = pa[PA_AREA]
+    x = xt[IX_X]
+    v = xt[IX_V]
+    p1 = xt[IX_P1]
+    p2 = xt[IX_P2]
+    s = xt[IX_S]
+    sd = xt[IX_SD]
+    # Rails and seals: smoothed Coulomb + viscous friction; end-of-stroke cushion.
+    force = area * (p1 - p2) + w_state
+    force -= pa[PA_FC] * math.tanh(v / pa[PA_VSMOOTH]) + pa[PA_FV] * v
+    xm = pa[PA_MID]
+    if x > xm:
+        force -= pa[PA_KSTOP] * (x - xm) + pa[PA_CSTOP] * v
+    elif x < -xm:
+        force -= pa[PA_KSTOP] * (x + xm) + pa[PA_CSTOP] * v
+    z = force / (pa[PA_MASS] - w_feed)
+    # Chambers (Eq 4-8c,d) with stroke-dependent volumes.
+    vdead = pa[PA_VDEAD]
+    v1 = max(area * (xm + x) + vdead, 0.5 * vdead)
+    v2 = max(area * (xm - x) + vdead, 0.5 * vdead)
+    q1, q2 = port_flows(pa, s, p1, p2)
+    leak = pa[PA_KL] * (p1 - p2)
+    out[IX_X] = v
+    out[IX_V] = z
+    out[IX_P1] = pa[PA_KAPPA] / v1 * (q1 - area * v - leak)
+    out[IX_P2] = pa[PA_KAPPA] / v2 * (area * v + leak - q2)
+    # Servovalve (Eq 4-3), spool in mA-equivalent.
+    a1 = pa[PA_A1]
+    a2 = pa[PA_A2]
+    out[IX_S] = sd
+    out[IX_SD] = a1 * a2 * (current - s) - (a1 + a2) * sd
+    return z
+
+
+@njit(cache=True)
+def valve_command(pa, u, x_prev, dp_prev):
+    """Digital hydraulic loop of Section 4.3.4 [V], limited to +-valve_command_limit.
+
+    ``u`` [in] is the position command of this loop, ``x_prev`` [in] and
+    ``dp_prev`` [psi] the measurements of the previous loop.
+    """
+    uv = pa[PA_KE] * (u - x_prev) - pa[PA_KP] * dp_prev
+    lim = pa[PA_UVMAX]
+    return min(max(uv, -lim), lim)
+
+
+@njit(cache=True)
+def table_rk4(pa, xt, current, w_state, w_feed, dt, nsub, k1, k2, k3, k4, tmp):
+    """Advance the table alone by ``dt`` [s] with ``nsub`` RK4 substeps (constant w, current)."""
+    h = dt / nsub
+    n = xt.shape[0]
+    for _ in range(nsub):
+        table_derivative(pa, xt, current, w_state, w_feed, k1)
+        for i in range(n):
+            tmp[i] = xt[i] + 0.5 * h * k1[i]
+        table_derivative(pa, tmp, current, w_state, w_feed, k2)
+        for i in range(n):
+            tmp[i] = xt[i] + 0.5 * h * k2[i]
+        table_derivative(pa, tmp, current, w_state, w_feed, k3)
+        for i in range(n):
+            tmp[i] = xt[i] + h * k3[i]
+        table_derivative(pa, tmp, current, w_state, w_feed, k4)
+        for i in range(n):
+            xt[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+# --------------------------------------------------------------------------- value objects
+@dataclass(frozen=True)
+class Friction:
+    """Friction at the rails and actuator seals (not in the report's model).
+
+    Parameters
+    ----------
+    coulomb : float
+        Coulomb (dry) friction force [lbf].  Default 8 lbf, 0.5 % of the
+        1600 lb moving weight: the report calls friction negligible compared
+        with the actuator force (Section 4.3.3) but blames it for the
+        low-frequency errors of Sections 8-9, so a small value is kept.
+    viscous : float
+        Viscous coefficient [lbf*s/in].  Default 0.5.
+    smoothing_velocity : float
+        Velocity [in/s] of the ``tanh`` smoothing of the Coulomb term.
+        Default 0.05 in/s.
+    """
+
+    coulomb: float = 8.0
+    viscous: float = 0.5
+    smoothing_velocity: float = 0.05
+
+    def __post_init__(self):
+        if self.coulomb < 0 or self.viscous < 0:
+            raise ConfigError("friction", "non-negative coulomb [lbf] and viscous [lbf*s/in]",
+                              (self.coulomb, self.viscous))
+        if self.smoothing_velocity <= 0:
+            raise ConfigError("friction.smoothing_velocity", "a positive velocity [in/s]",
+                              self.smoothing_velocity)
+
+    @classmethod
+    def none(cls) -> "Friction":
+        """No friction (the report's assumption, Eq 4-7b)."""
+        return cls(coulomb=0.0, viscous=0.0)
+
+
+@dataclass(frozen=True)
+class LinearizedTable:
+    """Small-signal model ``dx = A dx + B_u du + B_w dw`` of the nonlinear table.
+
+    ``C`` maps output names (``"x"``, ``"v"``, ``"z"``, ``"dp"``) to
+    ``(C_row, D_u, D_w)``; states follow ``state_names``.
+    """
+
+    A: np.ndarray
+    B_u: np.ndarray
+    B_w: np.ndarray
+    C: dict
+    state_names: tuple
+
+    def frequency_response(self, output: str, input: str, f_hz) -> np.ndarray:
+        """Complex response of ``output`` to ``input`` (``"u"`` or ``"w"``) at ``f_hz`` [Hz]."""
+        if output not in self.C or input not in ("u", "w"):
+            raise ConfigError("output/input", f"one of {sorted(self.C)} / 'u' or 'w'",
+                              (output, input))
+        c, d_u, d_w = self.C[output]
+        b = self.B_u if input == "u" else self.B_w
+        d = d_u if input == "u" else d_w
+        f = np.atleast_1d(np.asarray(f_hz, dtype=float))
+        n = self.A.shape[0]
+        out = np.empty(f.size, dtype=complex)
+        for k, fk in enumerate(f):
+            out[k] = c @ np.linalg.solve(1j * TWO_PI * fk * np.eye(n) - self.A, b) + d
+        return out
+
+
+@dataclass(frozen=True)
+class NonlinearTable:
+    """Physical parameters of the nonlinear servo-hydraulic table (report Sections 4.2-4.3).
+
+    Build it with :meth:`from_linear` so that it linearizes to Eq 4-11.
+
+    Parameters
+    ----------
+    piston_area : float
+        A_p [in^2].
+    mid_stroke : float
+        x_m [in]; the table hits its end stops at +-x_m.
+    mass : float
+        Moving mass m_st [lbf*s^2/in].
+    bulk_modulus : float
+        Oil bulk modulus kappa [psi].
+    leakage : float
+        Cross-piston leakage coefficient K_l [in^3/s/psi].
+    flow_gain : float
+        Orifice flow gain K_q [in^3/s per mA per sqrt(psi)].
+    dead_volume : float
+        Oil volume of each chamber beyond the swept volume (ports, manifold) [in^3].
+    valve_poles_hz : tuple of float
+        Servovalve poles alpha_1, alpha_2 [Hz].
+    supply_pressure, return_pressure : float
+        P_s, P_R [psi].
+    laminar_pressure : float
+        Regularisation pressure of the square-root law [psi].
+    spool_limit : float
+        Full port opening, in mA-equivalent (the rated current) [mA].
+    Ke : float
+        Proportional gain [V/in].
+    Kp : float
+        Delta-P gain [V/psi].
+    Kv : float
+        VC2124 voltage-to-current gain [mA/V].
+    valve_command_limit : float
+        Limit of the valve command [V].
+    loop_time : float
+        Controller loop time tau_s [s].
+    friction : Friction
+        Rail and seal friction.
+    endstop_stiffness, endstop_damping : float
+        Cushion beyond +-x_m [lbf/in], [lbf*s/in].
+    """
+
+    piston_area: float
+    mid_stroke: float
+    mass: float
+    bulk_modulus: float
+    leakage: float
+    flow_gain: float
+    dead_volume: float
+    valve_poles_hz: tuple
+    supply_pressure: float = 3000.0
+    return_pressure: float = 0.0
+    laminar_pressure: float = 20.0
+    spool_limit: float = 25.0
+    Ke: float = 5.0
+    Kp: float = 0.001
+    Kv: float = 3.0
+    valve_command_limit: float = 10.0
+    loop_time: float = 500e-6
+    friction: Friction = field(default_factory=Friction)
+    endstop_stiffness: float = 1.0e6
+    endstop_damping: float = 2.0e3
+
+    def __post_init__(self):
+        positive = ("piston_area", "mid_stroke", "mass", "bulk_modulus", "flow_gain",
+                    "dead_volume", "laminar_pressure", "spool_limit", "Kv",
+                    "valve_command_limit", "loop_time")
+        for name in positive:
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ConfigError(f"table.{name}", "a positive finite number", value)
+        if self.leakage < 0:
+            raise ConfigError("table.leakage", "a non-negative coefficient [in^3/s/psi]",
+                              self.leakage)
+        if self.supply_pressure <= self.return_pressure:
+            raise ConfigError("table.supply_pressure", "a pressure above return_pressure [psi]",
+                              self.supply_pressure)
+        if len(self.valve_poles_hz) != 2 or min(self.valve_poles_hz) <= 0:
+            raise ConfigError("table.valve_poles_hz", "two positive frequencies [Hz]",
+                              self.valve_poles_hz)
+
+    # ----------------------------------------------------------------- building
+    @classmethod
+    def from_linear(cls, p, *, dead_volume: float = 0.5, friction: Friction | None = None,
+                    laminar_pressure: float = 20.0) -> "NonlinearTable":
+        """Physical table whose small-signal model is Eq 4-11 for the linear parameters ``p``.
+
+        Parameters
+        ----------
+        p : TableParameters
+            Linear-model parameters (``impedance_mil.plant.TableParameters`` or
+            any object with the same fields).
+        dead_volume : float
+            Oil volume of each chamber at mid-stroke beyond ``A_p x_m`` [in^3].
+            Not given in the report; default 0.5 in^3 (port passages).
+        friction : Friction, optional
+            Rail/seal friction; default :class:`Friction` (small).
+        laminar_pressure : float
+            Regularisation pressure of the orifice law [psi].
+
+        Notes
+        -----
+        With ``V_0 = A_p x_m + dead_volume`` the chamber volume at mid-stroke,
+        Eq 4-10a,b and 4-12 generalise to
+
+        * ``kappa = omega_oil^2 m_st V_0 / (2 A_p^2)``   (Eq 4-10a),
+        * ``K_l = zeta_oil omega_oil V_0 / kappa``      (Eq 4-10b),
+        * ``K_q = d V_0 / (2 kappa f((P_s - P_R)/2))``  (Eq 4-12),
+
+        where ``f`` is the orifice law, so the linearization matches Eq 4-11
+        exactly (tested in ``tests/lab/test_nonlinear_table.py``).
+        """
+        if dead_volume <= 0:
+            raise ConfigError("table.dead_volume", "a positive volume [in^3]", dead_volume)
+        omega = TWO_PI * p.f_oil_hz
+        v0 = p.piston_area * p.mid_stroke + dead_volume
+        kappa = omega ** 2 * p.mass * v0 / (2.0 * p.piston_area ** 2)
+        half_drop = 0.5 * (p.supply_pressure - p.return_pressure)
+        f_eq = half_drop / (half_drop ** 2 + laminar_pressure ** 2) ** 0.25
+        return cls(
+            piston_area=p.piston_area, mid_stroke=p.mid_stroke, mass=p.mass,
+            bulk_modulus=kappa, leakage=p.zeta_oil * omega * v0 / kappa,
+            flow_gain=p.d * v0 / (2.0 * kappa * f_eq), dead_volume=dead_volume,
+            valve_poles_hz=tuple(float(f) for f in p.valve_poles_hz),
+            supply_pressure=p.supply_pressure, return_pressure=p.return_pressure,
+            laminar_pressure=laminar_pressure, spool_limit=p.rated_current,
+            Ke=p.Ke, Kp=p.Kp, Kv=p.Kv, valve_command_limit=p.valve_command_limit,
+            loop_time=p.loop_time, friction=Friction() if friction is None else friction)
+
+    def with_gains(self, **changes) -> "NonlinearTable":
+        """Copy with changed fields (e.g. ``Kp=0.0002``)."""
+        return replace(self, **changes)
+
+    # ----------------------------------------------------------------- derived
+    @property
+    def equilibrium_pressure(self) -> float:
+        """Chamber pressure at rest, ``(P_s + P_R)/2`` [psi]."""
+        return 0.5 * (self.supply_pressure + self.return_pressure)
+
+    @property
+    def max_force(self) -> float:
+        """Stall force ``A_p (P_s - P_R)`` [lbf]."""
+        return self.piston_area * (self.supply_pressure - self.return_pressure)
+
+    @property
+    def implied_rated_flow(self) -> float:
+        """Flow [in^3/s] at the rated current and a 1000 psi valve drop implied by K_q.
+
+        Compare with the valve's rating (57.75 in^3/s for the MOOG 760F264A,
+        report Section 4.3.2): a consistency check of the model constant d.
+        """
+        half = 500.0
+        return self.flow_gain * self.spool_limit * half / (half ** 2 + self.laminar_pressure ** 2) ** 0.25
+
+    def parameter_array(self) -> np.ndarray:
+        """The parameter array read by the numba kernels (layout ``PA_*``)."""
+        pa = np.zeros(N_PARAMS)
+        pa[PA_AREA] = self.piston_area
+        pa[PA_MID] = self.mid_stroke
+        pa[PA_MASS] = self.mass
+        pa[PA_KAPPA] = self.bulk_modulus
+        pa[PA_KL] = self.leakage
+        pa[PA_KQ] = self.flow_gain
+        pa[PA_VDEAD] = self.dead_volume
+        pa[PA_PS] = self.supply_pressure
+        pa[PA_PR] = self.return_pressure
+        pa[PA_PLAM] = self.laminar_pressure
+        pa[PA_A1] = TWO_PI * self.valve_poles_hz[0]
+        pa[PA_A2] = TWO_PI * self.valve_poles_hz[1]
+        pa[PA_SMAX] = self.spool_limit
+        pa[PA_FC] = self.friction.coulomb
+        pa[PA_FV] = self.friction.viscous
+        pa[PA_VSMOOTH] = self.friction.smoothing_velocity
+        pa[PA_KSTOP] = self.endstop_stiffness
+        pa[PA_CSTOP] = self.endstop_damping
+        pa[PA_KE] = self.Ke
+        pa[PA_KP] = self.Kp
+        pa[PA_KV] = self.Kv
+        pa[PA_UVMAX] = self.valve_command_limit
+        pa[PA_LOOP] = self.loop_time
+        return pa
+
+    def equilibrium_state(self) -> np.ndarray:
+        """Table at rest at mid-stroke, ``P_1 = P_2 = (P_s + P_R)/2``."""
+        xt = np.zeros(N_TABLE_STATES)
+        xt[IX_P1] = xt[IX_P2] = self.equilibrium_pressure
+        return xt
+
+    # ----------------------------------------------------------------- evaluation
+    def derivative(self, state, current: float, w: float = 0.0) -> tuple[np.ndarray, float]:
+        """State derivative and table acceleration z [in/s^2] for valve current [mA] and force w [lbf]."""
+        out = np.empty(N_TABLE_STATES)
+        z = table_derivative(self.parameter_array(), np.asarray(state, dtype=float),
+                             float(current), float(w), 0.0, out)
+        return out, z
+
+    def linearize(self, *, continuous_feedback: bool = True) -> LinearizedTable:
+        """Numerical Jacobian at equilibrium (central differences).
+
+        With ``continuous_feedback`` the hydraulic loop is closed in continuous
+        time, ``u_i = K_v (K_e (u - x) - K_p dP)`` (the analog controller of
+        Eq 4-14b); otherwise the input is the valve current u_i [mA] (Eq 4-11).
+        """
+        pa = self.parameter_array()
+        x0 = self.equilibrium_state()
+        steps = np.array([1e-6, 1e-5, 1e-3, 1e-3, 1e-6, 1e-3])
+        n = N_TABLE_STATES
+
+        def rhs(x, u, w):
+            cur = self.Kv * (self.Ke * (u - x[IX_X]) - self.Kp * (x[IX_P1] - x[IX_P2])) \
+                if continuous_feedback else u
+            out = np.empty(n)
+            z = table_derivative(pa, x, cur, w, 0.0, out)
+            return np.append(out, z)
+
+        jac = np.empty((n + 1, n))
+        for j in range(n):
+            e = np.zeros(n)
+            e[j] = steps[j]
+            jac[:, j] = (rhs(x0 + e, 0.0, 0.0) - rhs(x0 - e, 0.0, 0.0)) / (2 * steps[j])
+        du, dw = 1e-6, 1e-3
+        b_u = (rhs(x0, du, 0.0) - rhs(x0, -du, 0.0)) / (2 * du)
+        b_w = (rhs(x0, 0.0, dw) - rhs(x0, 0.0, -dw)) / (2 * dw)
+        dp_row = np.zeros(n)
+        dp_row[IX_P1], dp_row[IX_P2] = 1.0, -1.0
+        outputs = {
+            "x": (np.eye(n)[IX_X], 0.0, 0.0),
+            "v": (np.eye(n)[IX_V], 0.0, 0.0),
+            "z": (jac[n], b_u[n], b_w[n]),
+            "dp": (dp_row, 0.0, 0.0),
+        }
+        return LinearizedTable(A=jac[:n], B_u=b_u[:n], B_w=b_w[:n], C=outputs,
+                               state_names=TABLE_STATE_NAMES)
