@@ -1,0 +1,345 @@
+"""Ground-motion files: PEER NGA ``.AT2``, two-column text, CSV, and the built-in records.
+
+Formats
+-------
+PEER ``.AT2``
+    Four header lines; the third names the quantity and its unit (acceleration
+    in g); the fourth gives the number of points and the sample interval, as
+    ``NPTS=   5372, DT=   .0100 SEC,`` (NGA-West2) or as two bare numbers
+    ``4000  .0050`` (older files, possibly followed by ``NPTS, DT``).  Then
+    the samples, any number per line.  The sample count must equal NPTS and
+    DT must be positive.
+Two-column text or CSV
+    ``time, accel`` per line, separated by commas, semicolons, tabs or blanks.
+    Leading lines that are not two numbers (a header, ``#`` comments) are
+    skipped; after the first data line every line must be data (``#`` comment
+    lines and blank lines excepted).  Time must increase strictly and be
+    uniform: every time must lie within :data:`UNIFORM_TIME_RTOL` of a sample
+    interval from the straight line through the first and last times, else the
+    file is refused (resample it yourself: we do not guess).  A record that
+    starts at t0 != 0 is shifted to start at 0.  The unit of the accelerations
+    is an option (default g).
+
+Every malformed file raises :class:`~impedance_mil.errors.DataFileError`
+naming the file and the problem.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..config import quantity
+from ..errors import ConfigError, DataFileError
+from ..units import G0
+from .motion import GroundMotion
+
+#: Largest deviation of a sample time from uniform sampling, as a fraction of the interval.
+UNIFORM_TIME_RTOL = 0.01
+
+#: Folder of the records shipped with the package (see ``data/PROVENANCE.md``).
+MOTIONS_DIR = Path(__file__).resolve().parent.parent / "data" / "motions"
+
+_NPTS_RE = re.compile(r"NPTS\s*=\s*([0-9]+)", re.IGNORECASE)
+_DT_RE = re.compile(r"DT\s*=\s*([-+0-9.EeDd]+)", re.IGNORECASE)
+_NUMBER_RE = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[EeDd][-+]?[0-9]+)?")
+_SPLIT_RE = re.compile(r"[,;\s]+")
+_OTHER_UNITS_RE = re.compile(r"CM/S|M/S|MM/S|IN/S|FT/S|GAL", re.IGNORECASE)
+
+
+@dataclass(frozen=True)
+class BuiltinRecord:
+    """A record shipped with the package.
+
+    Parameters
+    ----------
+    filename : str
+        File in :data:`MOTIONS_DIR`.
+    name : str
+        Label given to the motion.
+    description : str
+        One line for listings.
+    units : str
+        Unit of the file's accelerations.
+    """
+
+    filename: str
+    name: str
+    description: str
+    units: str = "g"
+
+
+#: The built-in records by key.  ``"elcentro"`` is the report's GM1 seed (Table 8.1, RSN 6).
+BUILTIN_MOTIONS: dict[str, BuiltinRecord] = {
+    "elcentro": BuiltinRecord(
+        "RSN6_IMPVALL_I-ELC180.AT2",
+        "Imperial Valley-02 1940, El Centro Array #9, 180 (RSN 6)",
+        "PEER NGA-West2 RSN 6 I-ELC180, dt 0.01 s, 53.7 s, PGA 0.281 g (report Table 8.1 GM1 seed)",
+    ),
+    "elcentro-chopra": BuiltinRecord(
+        "elcentro_chopra.csv",
+        "Imperial Valley 1940, El Centro NS (Chopra, Appendix 6)",
+        "El Centro NS as tabulated by Chopra, dt 0.02 s, 31.2 s, PGA 0.319 g",
+    ),
+}
+
+
+def _read_text(path: Path) -> list[str]:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise DataFileError(path, "file not found") from None
+    except IsADirectoryError:
+        raise DataFileError(path, "is a directory, expected a ground-motion file") from None
+    except PermissionError:
+        raise DataFileError(path, "permission denied") from None
+    except UnicodeDecodeError:
+        raise DataFileError(path, "not a text file") from None
+    lines = text.splitlines()
+    if not any(line.strip() for line in lines):
+        raise DataFileError(path, "empty file")
+    return lines
+
+
+def _parse_float(token: str) -> float:
+    return float(token.replace("D", "E").replace("d", "e"))
+
+
+def _numbers(path: Path, lines: list[str], first_line: int) -> np.ndarray:
+    """All whitespace-separated numbers of ``lines``; ``first_line`` is the 1-based number of lines[0]."""
+    values: list[float] = []
+    for offset, line in enumerate(lines):
+        for token in line.split():
+            try:
+                values.append(_parse_float(token))
+            except ValueError:
+                raise DataFileError(path, f"line {first_line + offset}: non-numeric token {token!r}") from None
+            if not np.isfinite(values[-1]):
+                raise DataFileError(path, f"line {first_line + offset}: {token} sample (samples must be finite)")
+    return np.array(values, dtype=float)
+
+
+def _at2_header(path: Path, lines: list[str]) -> tuple[int, float]:
+    if len(lines) < 4:
+        raise DataFileError(path, "truncated PEER AT2 header: expected 4 header lines")
+    kind = lines[2].upper()
+    if "VELOCITY" in kind or "DISPLACEMENT" in kind:
+        raise DataFileError(path, f"line 3 says {lines[2].strip()!r}: expected an acceleration time series")
+    if _OTHER_UNITS_RE.search(kind):
+        raise DataFileError(path, f"line 3 says {lines[2].strip()!r}: expected accelerations in units of g")
+    header = lines[3]
+    npts_m, dt_m = _NPTS_RE.search(header), _DT_RE.search(header)
+    if npts_m and dt_m:
+        npts_text, dt_text = npts_m.group(1), dt_m.group(1)
+    else:
+        tokens = _NUMBER_RE.findall(header)
+        if len(tokens) < 2:
+            raise DataFileError(path, f"line 4: expected NPTS and DT, got {header.strip()!r}")
+        npts_text, dt_text = tokens[0], tokens[1]
+    try:
+        npts_value = _parse_float(npts_text)
+        dt = _parse_float(dt_text)
+    except ValueError:
+        raise DataFileError(path, f"line 4: expected NPTS and DT, got {header.strip()!r}") from None
+    if npts_value != int(npts_value) or npts_value < 2:
+        raise DataFileError(path, f"line 4: NPTS must be an integer >= 2, got {npts_text}")
+    if not (np.isfinite(dt) and dt > 0):
+        raise DataFileError(path, f"line 4: DT must be positive, got {dt_text}")
+    return int(npts_value), dt
+
+
+def read_at2(path: str | Path) -> GroundMotion:
+    """Read a PEER NGA ``.AT2`` acceleration file (values in g).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    GroundMotion
+        Accelerations converted to [in/s**2]; ``name`` is the second header line.
+
+    Raises
+    ------
+    DataFileError
+        Empty or truncated file, unreadable NPTS/DT, DT <= 0, a non-numeric
+        token, a NaN or infinite sample, or a sample count different from NPTS.
+    """
+    p = Path(path)
+    lines = _read_text(p)
+    npts, dt = _at2_header(p, lines)
+    values = _numbers(p, lines[4:], 5)
+    if values.size != npts:
+        raise DataFileError(p, f"header says NPTS = {npts} but the file holds {values.size} samples")
+    title = lines[1].strip() or p.stem
+    return GroundMotion(dt, values * G0, title, f"{p.name} (PEER AT2, g)")
+
+
+def _looks_like_at2(lines: list[str]) -> bool:
+    return len(lines) >= 4 and bool(_NPTS_RE.search(lines[3]))
+
+
+def _unit_factor(units: str) -> float:
+    """Factor from ``units`` to [in/s**2]; ``g`` means standard gravity here."""
+    text = str(units).strip()
+    if text.lower() in ("g", "g0"):
+        return G0
+    return quantity("units", f"1 {text}", "inch / second**2", "positive")
+
+
+def _split_row(line: str) -> list[str]:
+    return [tok for tok in _SPLIT_RE.split(line.strip()) if tok]
+
+
+def _row_values(tokens: list[str]) -> list[float] | None:
+    try:
+        return [_parse_float(tok) for tok in tokens]
+    except ValueError:
+        return None
+
+
+def _column_rows(path: Path, lines: list[str]) -> tuple[np.ndarray, int]:
+    """Rows of two numbers and the 1-based line number of the first data row."""
+    rows: list[list[float]] = []
+    first = 0
+    for number, line in enumerate(lines, start=1):
+        stripped = line.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        tokens = _split_row(stripped)
+        values = _row_values(tokens)
+        if not rows and (values is None or len(values) != 2):
+            continue  # header line before the data
+        if values is None:
+            bad = next(tok for tok in tokens if _row_values([tok]) is None)
+            raise DataFileError(path, f"line {number}: non-numeric token {bad!r}")
+        if len(values) != 2:
+            raise DataFileError(path, f"line {number}: expected 2 columns (time, accel), got {len(values)}")
+        if not all(np.isfinite(values)):
+            raise DataFileError(path, f"line {number}: non-finite value (NaN or inf)")
+        if not rows:
+            first = number
+        rows.append(values)
+    if not rows:
+        raise DataFileError(path, "no data: expected lines of two numbers (time, accel)")
+    if len(rows) < 2:
+        raise DataFileError(path, "only one sample: expected at least 2")
+    return np.array(rows, dtype=float), first
+
+
+def _check_uniform(path: Path, time: np.ndarray, first_line: int) -> float:
+    steps = np.diff(time)
+    if np.any(steps <= 0):
+        k = int(np.flatnonzero(steps <= 0)[0])
+        raise DataFileError(path, f"time not strictly increasing at data row {k + 2} "
+                            f"(line >= {first_line + k + 1}): {time[k + 1]:.9g} s after {time[k]:.9g} s")
+    n = time.size
+    dt = (time[-1] - time[0]) / (n - 1)
+    deviation = np.abs(time - (time[0] + dt * np.arange(n)))
+    worst = int(np.argmax(deviation))
+    if deviation[worst] > UNIFORM_TIME_RTOL * dt:
+        raise DataFileError(
+            path, f"time not uniformly sampled: sample {worst + 1} at {time[worst]:.9g} s is "
+            f"{deviation[worst]:.3g} s off the uniform grid of dt = {dt:.9g} s "
+            f"(tolerance {UNIFORM_TIME_RTOL:g} dt); resample the record first")
+    return dt
+
+
+def read_columns(path: str | Path, units: str = "g") -> GroundMotion:
+    """Read a two-column (time [s], acceleration) text or CSV file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    units : str
+        Unit of the accelerations: ``"g"`` (standard gravity, default) or any
+        pint acceleration unit such as ``"m/s**2"``, ``"cm/s**2"``, ``"in/s**2"``.
+
+    Returns
+    -------
+    GroundMotion
+        Accelerations in [in/s**2], time shifted to start at 0.
+
+    Raises
+    ------
+    DataFileError
+        Empty file, no data rows, a row without exactly two numbers, a
+        non-numeric token or NaN inside the data, time not strictly increasing
+        or not uniformly sampled (see :data:`UNIFORM_TIME_RTOL`).
+    ConfigError
+        ``units`` is not an acceleration unit.
+    """
+    p = Path(path)
+    factor = _unit_factor(units)
+    lines = _read_text(p)
+    rows, first_line = _column_rows(p, lines)
+    dt = _check_uniform(p, rows[:, 0], first_line)
+    note = f"{p.name} (two-column, {units})"
+    if rows[0, 0] != 0.0:
+        note += f", shifted from t0 = {rows[0, 0]:.9g} s"
+    return GroundMotion(dt, rows[:, 1] * factor, p.stem, note)
+
+
+def read_motion(path: str | Path, units: str = "g") -> GroundMotion:
+    """Read a ground-motion file: PEER ``.AT2``, two-column text or CSV.
+
+    A file whose suffix is ``.at2`` (any case), or whose fourth line carries
+    ``NPTS=``, is read as PEER AT2 (always in g; ``units`` must then be g);
+    any other file as two columns (time [s], acceleration [units]).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    units : str
+        Unit of the accelerations of a column file (default ``"g"``).
+
+    Returns
+    -------
+    GroundMotion
+        Accelerations in [in/s**2].
+
+    Raises
+    ------
+    DataFileError
+        Missing, unreadable or malformed file (see :func:`read_at2`, :func:`read_columns`).
+    ConfigError
+        ``units`` is not an acceleration unit, or is not g for an AT2 file.
+    """
+    p = Path(path)
+    if p.suffix.lower() == ".at2" or (p.is_file() and _looks_like_at2(_read_text(p))):
+        if _unit_factor(units) != G0:
+            raise ConfigError("units", "g for a PEER AT2 file (its header fixes the unit)", units)
+        return read_at2(p)
+    return read_columns(p, units)
+
+
+def builtin_motion(name: str = "elcentro") -> GroundMotion:
+    """A record shipped with the package.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`BUILTIN_MOTIONS`: ``"elcentro"`` (PEER NGA-West2 RSN 6,
+        El Centro Array #9, 180 component, the report's GM1 seed, PGA 0.281 g)
+        or ``"elcentro-chopra"`` (the El Centro NS record as tabulated by
+        Chopra, PGA 0.319 g).
+
+    Raises
+    ------
+    ConfigError
+        Unknown name.
+    """
+    key = str(name).strip().lower()
+    if key not in BUILTIN_MOTIONS:
+        raise ConfigError("motion", "one of the built-in records " + ", ".join(BUILTIN_MOTIONS), name)
+    record = BUILTIN_MOTIONS[key]
+    motion = read_motion(MOTIONS_DIR / record.filename, units=record.units)
+    return GroundMotion(motion.time_step, motion.accel, record.name,
+                        f"built-in '{key}': {motion.source}")
