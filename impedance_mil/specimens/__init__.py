@@ -1,1 +1,15 @@
-"""Test articles (rigid mass, MDOF, fluid-filled vessel) and sensors (report Sections 3.2, 7.2)."""
+"""Test articles (rigid mass, MDOF, fluid-filled vessel) and sensors (report Sections 3.2, 3.5, 7.2).
+
+Every specimen maps the absolute table acceleration ``z`` [in/s**2] to the
+interface force ``w`` [lbf] it applies on the table (report Eq 4-7b:
+``m_st * z = A_p * dP + w``; a rigid mass ``m`` gives ``w = -m z``).
+"""
+
+from .statespace import SpecimenStateSpace, rk4_step
+from .structural import LinearMDOF, ModalProperties, RigidMass, Specimen, modal_damping_matrix
+from .vessel import FluidVessel, Oscillator
+
+__all__ = [
+    "FluidVessel", "LinearMDOF", "ModalProperties", "Oscillator", "RigidMass", "Specimen",
+    "SpecimenStateSpace", "modal_damping_matrix", "rk4_step",
+]
