@@ -1,0 +1,224 @@
+"""Reference runtime of the discrete MIL controller (report Section 6.5 Step 6, Figures 7.8-7.11).
+
+:class:`MILRuntime` is the object the virtual lab steps and the code
+generators render: the controller ``u = H_uz z_vs + H_uw w`` in delta form
+with compensated state accumulation (:mod:`impedance_mil.implement.kernels`),
+optionally preceded, inside the same loop, by one RK3 step of a virtual
+system as in the RMC programs of Figures 7.9-7.11:
+
+1. ``z_vs`` from the VS state at the start of the loop (``(w - F)/m_vs``);
+2. advance the VS state by one RK3 step with ``a_g`` and ``w`` held;
+3. ``u = C_z x_z + D_z z_vs + C_w x_w + D_w w``  [in];
+4. advance the controller states with ``z_vs`` and ``w`` (the report's programs
+   use ``a_g`` here, an erratum: see docs/errata.md).
+
+Precision: ``"single"`` stores every array in float32 and the controller
+arithmetic is float32 throughout (bit-identical to the generated C with
+``float``); ``"double"`` uses float64.  The VS is integrated by the virtual
+package's kernels on state arrays of the same dtype.  No step allocates.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from ..errors import ConfigError
+from ..virtual.kernels import KIND_PYTHON, vs_output_z, vs_step_rk3
+from .discretize import DiscreteController
+from .kernels import controller_run, controller_step
+
+#: Precisions understood by the runtime and the generators, and their dtypes.
+PRECISIONS = {"single": np.float32, "double": np.float64}
+
+
+def precision_dtype(precision: str):
+    """numpy dtype of ``"single"`` or ``"double"``."""
+    if precision not in PRECISIONS:
+        raise ConfigError("precision", "'single' or 'double'", precision)
+    return PRECISIONS[precision]
+
+
+@dataclass(frozen=True)
+class MILStep:
+    """Outputs of one MIL loop.
+
+    Attributes
+    ----------
+    u : float
+        Displacement command to the table [in].
+    z_vs : float
+        Target basemat acceleration computed by the VS [in/s**2].
+    """
+
+    u: float
+    z_vs: float
+
+
+@dataclass(frozen=True, eq=False)
+class MILTrace:
+    """Histories of a run of :meth:`MILRuntime.run_mil`.
+
+    Attributes
+    ----------
+    u : ndarray
+        Displacement command [in] per loop.
+    z_vs : ndarray
+        Target acceleration [in/s**2] per loop.
+    """
+
+    u: np.ndarray
+    z_vs: np.ndarray
+
+
+@numba.njit(cache=True, nogil=True)
+def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work,
+                    dt, a_g, w, out):
+    """One MIL loop of Figure 7.9 (corrected): VS output and RK3 step, then the controller.
+
+    Parameters
+    ----------
+    m_z, m_w, s_z, s_w, tmp, compensated
+        Controller arrays, see :func:`impedance_mil.implement.kernels.controller_step`.
+    kind_code : int
+        Built-in VS kind (:mod:`impedance_mil.virtual.kernels`).
+    params, x_vs, work : ndarray
+        VS parameters, state (updated in place) and RK3 work space (4*n).
+    dt : float
+        Loop time [s].
+    a_g : float
+        Ground acceleration [in/s**2].
+    w : float
+        Measured force [lbf].
+    out : ndarray
+        Receives ``[u [in], z_vs [in/s**2]]``.
+    """
+    tmp[0] = a_g
+    ag = tmp[0]
+    tmp[0] = w
+    wv = tmp[0]
+    tmp[0] = dt
+    h = tmp[0]
+    z = vs_output_z(kind_code, params, x_vs, ag, wv)
+    tmp[0] = z
+    z = tmp[0]
+    vs_step_rk3(kind_code, params, x_vs, ag, wv, h, work)
+    out[0] = controller_step(m_z, m_w, s_z, s_w, tmp, z, wv, compensated)
+    out[1] = z
+
+
+@numba.njit(cache=True, nogil=True)
+def mil_run_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work,
+                   dt, a_g, w, u, z_vs, out):
+    """:func:`mil_step_kernel` over whole records; writes ``u`` and ``z_vs``."""
+    for k in range(a_g.shape[0]):
+        mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs,
+                        work, dt, a_g[k], w[k], out)
+        u[k] = out[0]
+        z_vs[k] = out[1]
+
+
+class MILRuntime:
+    """The discrete MIL controller (and optionally its VS) stepped loop by loop.
+
+    Parameters
+    ----------
+    controller : DiscreteController
+        From :func:`~impedance_mil.implement.discretize`.
+    vs : VirtualSystem, optional
+        A built-in virtual system (``kind_code >= 1``); needed by :meth:`mil_step`.
+    precision : {"single", "double"}
+        Arithmetic of the controller (float32 as on the RMC75E, or float64).
+    compensated : bool
+        Kahan-compensated state accumulation (default; ``False`` only to
+        quantify what it buys).
+
+    Attributes
+    ----------
+    m_z, m_w : ndarray
+        System matrices ``[[A - I, B], [C, D]]`` in the runtime dtype.
+    s_z, s_w : ndarray
+        States and compensations, shape (2, n).
+
+    Examples
+    --------
+    >>> rt = MILRuntime(controller, precision="single")   # doctest: +SKIP
+    >>> u = rt.step(z_vs=12.0, w=-150.0)                  # doctest: +SKIP
+    """
+
+    def __init__(self, controller: DiscreteController, vs=None, precision: str = "single",
+                 compensated: bool = True):
+        self.controller = controller
+        self.precision = precision
+        self.dtype = precision_dtype(precision)
+        self.compensated = bool(compensated)
+        self.m_z = controller.z.system_matrix().astype(self.dtype)
+        self.m_w = controller.w.system_matrix().astype(self.dtype)
+        self.s_z = np.zeros((2, controller.z.n_states), self.dtype)
+        self.s_w = np.zeros((2, controller.w.n_states), self.dtype)
+        self.tmp = np.zeros(max(controller.z.n_states, controller.w.n_states, 1), self.dtype)
+        self.vs = vs
+        if vs is not None and vs.kind_code == KIND_PYTHON:
+            raise ConfigError("vs", "a built-in virtual system with a compiled kernel (SD, LR, FP)",
+                              type(vs).__name__)
+        n_vs = vs.n_states if vs is not None else 0
+        self.kind_code = int(vs.kind_code) if vs is not None else 0
+        self.vs_params = (vs.parameter_array().astype(self.dtype) if vs is not None
+                          else np.zeros(0, self.dtype))
+        self.x_vs = np.zeros(n_vs, self.dtype)
+        self.work = np.zeros(4 * max(n_vs, 1), self.dtype)
+        self._out = np.zeros(2, self.dtype)
+        self.reset()
+
+    @property
+    def loop_time_s(self) -> float:
+        """Loop time [s]."""
+        return self.controller.loop_time_s
+
+    def reset(self) -> None:
+        """Zero the controller states; put the VS at its initial state."""
+        self.s_z[:] = 0
+        self.s_w[:] = 0
+        if self.vs is not None:
+            self.x_vs[:] = np.asarray(self.vs.initial_state(), float)
+
+    def step(self, z_vs: float, w: float) -> float:
+        """One controller loop: displacement command ``u`` [in] from ``z_vs`` [in/s**2], ``w`` [lbf]."""
+        return float(controller_step(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp,
+                                     float(z_vs), float(w), self.compensated))
+
+    def mil_step(self, a_g: float, w: float) -> MILStep:
+        """One MIL loop: VS (RK3) then controller, from ``a_g`` [in/s**2] and ``w`` [lbf]."""
+        if self.vs is None:
+            raise ConfigError("vs", "a virtual system for mil_step (MILRuntime(controller, vs=...))")
+        mil_step_kernel(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, self.compensated,
+                        self.kind_code, self.vs_params, self.x_vs, self.work,
+                        self.loop_time_s, float(a_g), float(w), self._out)
+        return MILStep(float(self._out[0]), float(self._out[1]))
+
+    def run(self, z_vs, w) -> np.ndarray:
+        """Step over records ``z_vs`` [in/s**2] and ``w`` [lbf]; return ``u`` [in] (runtime dtype)."""
+        zz, ww = self._records(z_vs, w)
+        u = np.empty(zz.size, self.dtype)
+        controller_run(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, zz, ww,
+                       self.compensated, u)
+        return u
+
+    def run_mil(self, a_g, w) -> MILTrace:
+        """:meth:`mil_step` over records ``a_g`` [in/s**2] and ``w`` [lbf]."""
+        if self.vs is None:
+            raise ConfigError("vs", "a virtual system for run_mil (MILRuntime(controller, vs=...))")
+        aa, ww = self._records(a_g, w)
+        u = np.empty(aa.size, self.dtype)
+        z = np.empty(aa.size, self.dtype)
+        mil_run_kernel(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, self.compensated,
+                       self.kind_code, self.vs_params, self.x_vs, self.work,
+                       self.loop_time_s, aa, ww, u, z, self._out)
+        return MILTrace(u, z)
+
+    def _records(self, a, b) -> tuple[np.ndarray, np.ndarray]:
+        a = np.ascontiguousarray(a, dtype=self.dtype).ravel()
+        b = np.broadcast_to(np.asarray(b, dtype=self.dtype), a.shape)
+        return a, np.ascontiguousarray(b)
