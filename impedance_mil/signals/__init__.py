@@ -1,5 +1,6 @@
 """Ground motions, response spectra, multisines and FRF estimation (report Sections 4.5, 8.2)."""
 
+from .limits import LimitCheck, MotionCheck, TableLimits, check_motion, required_rated_flow
 from .motion import GroundMotion
 from .readers import BUILTIN_MOTIONS, builtin_motion, read_at2, read_columns, read_motion
 from .spectrum import DEFAULT_PERIODS, Spectrum, oscillator_response, response_spectrum
@@ -8,11 +9,16 @@ __all__ = [
     "BUILTIN_MOTIONS",
     "DEFAULT_PERIODS",
     "GroundMotion",
+    "LimitCheck",
+    "MotionCheck",
     "Spectrum",
+    "TableLimits",
     "builtin_motion",
+    "check_motion",
     "read_at2",
     "read_columns",
     "oscillator_response",
     "read_motion",
+    "required_rated_flow",
     "response_spectrum",
 ]
