@@ -36,8 +36,9 @@ def test_weights_and_mass_ratios_of_section_8_2(depth, weight, ratio):
     # Water weight from geometry, computed independently of the package.
     assert vessel.water_weight_lbf == pytest.approx(math.pi * R_INNER**2 * depth * WATER, rel=1e-12)
     # Tolerance 2.5 %: the report's own numbers disagree by 4 % on the dry
-    # weight (1.25 kip in Section 3.2, 1200 lb in 8.2) and imply water unit
-    # weights from 62.9 to 64.9 lbf/ft^3 between depth pairs (docs/errata.md).
+    # weight (1.25 kip in Section 3.2, 1200 lb in 8.2), and their increments
+    # imply water unit weights of 63.1 to 67.1 lbf/ft^3 between consecutive
+    # depths (fresh water 62.4) with the inner diameter (docs/errata.md).
     assert vessel.total_weight == pytest.approx(weight, rel=0.025)
     # The printed ratios are the model's ratio rounded to the nearest 0.25.
     assert round(vessel.total_weight / TABLE_WEIGHT * 4) / 4 == ratio
