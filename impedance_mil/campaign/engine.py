@@ -1,0 +1,227 @@
+"""The campaign engine: run every pending run of a campaign, resumably, on any executor.
+
+:func:`run_campaign` writes the expanded campaign (``campaign.json``), skips
+the runs already done in the output folder, submits the others to a
+:class:`~impedance_mil.campaign.executors.RunExecutor`, writes one record per
+finished run as it arrives (atomically), and at the end writes the summary
+table (CSV and Parquet).  A run that fails is recorded with its reason and
+the campaign goes on.  On an interrupt (Ctrl-C, or a progress callback that
+raises :class:`KeyboardInterrupt`), runs not yet started are cancelled, runs
+that finish meanwhile are still recorded, the summary is written and the
+interrupt propagates; running the campaign again resumes it.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import os
+import socket
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+from ..errors import LimitTripped
+from .executors import RunExecutor, make_executor
+from .kinds import get_kind
+from .spec import CampaignSpec, RunSpec
+from .store import CampaignStore, RunRecord
+from .summary import SummaryPaths, write_summary
+
+
+@dataclass(frozen=True)
+class ProgressEvent:
+    """One run finished.
+
+    Attributes
+    ----------
+    done : int
+        Runs finished so far in this session.
+    total : int
+        Runs this session has to execute (skipped runs excluded).
+    record : RunRecord
+        The run that just finished.
+    """
+
+    done: int
+    total: int
+    record: RunRecord
+
+
+@dataclass(frozen=True)
+class CampaignResult:
+    """What a campaign session did.
+
+    Attributes
+    ----------
+    root : Path
+        The campaign folder.
+    records : tuple of RunRecord
+        The record of every finished run of the campaign, in campaign order
+        (runs still pending after an interrupt have none).
+    executed : tuple of str
+        Run ids executed in this session.
+    skipped : tuple of str
+        Run ids already done before this session.
+    summary : SummaryPaths
+        The summary files written.
+    """
+
+    root: Path
+    records: tuple[RunRecord, ...]
+    executed: tuple[str, ...]
+    skipped: tuple[str, ...]
+    summary: SummaryPaths
+
+    def count(self, status: str) -> int:
+        """Number of finished runs with this status (``ok``, ``aborted``, ``failed``)."""
+        return sum(1 for record in self.records if record.status == status)
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def _scalar_metrics(metrics: Mapping[str, Any]) -> dict[str, Any]:
+    """Keep the scalar metrics (numbers, booleans, strings) as plain Python values."""
+    out: dict[str, Any] = {}
+    for key, value in metrics.items():
+        if hasattr(value, "item") and getattr(value, "ndim", 1) == 0:
+            value = value.item()
+        if isinstance(value, (bool, int, float, str)):
+            out[str(key)] = value
+    return out
+
+
+def execute_run(kind_name: str, config: dict[str, Any], root: str, run_id: str) -> dict[str, Any]:
+    """Execute one run in a worker and report its outcome (never raises for a run's own error).
+
+    The run function writes to a temporary HDF5 name that is renamed to
+    ``runs/<run_id>/run.h5`` only when it returns.
+
+    Parameters
+    ----------
+    kind_name : str
+        The campaign kind.
+    config : dict
+        The full run configuration.
+    root : str
+        The campaign folder.
+    run_id : str
+        The run name.
+
+    Returns
+    -------
+    dict
+        ``status``, ``metrics``, ``error``, ``hdf5`` (relative path or ""),
+        ``elapsed_s`` and ``worker``.
+    """
+    start = time.perf_counter()
+    store = CampaignStore(root)
+    final = store.hdf5_path(run_id)
+    partial = final.with_name(f".run.h5.partial-{os.getpid()}")
+    outcome: dict[str, Any] = {"status": "ok", "metrics": {}, "error": "", "hdf5": ""}
+    try:
+        kind = get_kind(kind_name)
+        final.parent.mkdir(parents=True, exist_ok=True)
+        metrics = _scalar_metrics(kind.run(config, partial))
+        if partial.exists():
+            os.replace(partial, final)
+            outcome["hdf5"] = final.relative_to(store.root).as_posix()
+        if metrics.get("aborted"):
+            outcome["status"] = "aborted"
+            outcome["error"] = str(metrics.get("abort_reason", "a safety limit tripped"))
+        outcome["metrics"] = metrics
+    except LimitTripped as exc:
+        outcome.update(status="aborted", error=_one_line(exc),
+                       metrics={"aborted": True, "abort_time_s": exc.time_s})
+    except Exception as exc:  # any error of a run is recorded, the campaign goes on
+        outcome.update(status="failed", error=_one_line(exc))
+    finally:
+        if partial.exists():
+            partial.unlink()
+    outcome["elapsed_s"] = time.perf_counter() - start
+    outcome["worker"] = f"{socket.gethostname()}:{os.getpid()}"
+    return outcome
+
+
+def _record(spec: CampaignSpec, run: RunSpec, future: Any) -> RunRecord:
+    try:
+        outcome = future.result()
+    except cf.CancelledError:
+        raise
+    except Exception as exc:  # the worker itself died (e.g. BrokenProcessPool) or Dask lost it
+        outcome = {"status": "failed", "error": "worker lost: " + _one_line(exc)}
+    return RunRecord(run_id=run.run_id, kind=spec.kind, studies=run.studies,
+                     settings=dict(run.settings), **outcome)
+
+
+def manifest(spec: CampaignSpec) -> dict[str, Any]:
+    """The expanded campaign as plain data (written to ``campaign.json``)."""
+    return {
+        "name": spec.name, "kind": spec.kind, "title": spec.title, "section": spec.section,
+        "source": spec.source, "reduced": spec.reduced, "parameters": list(spec.parameters),
+        "runs": [{"run_id": r.run_id, "studies": list(r.studies), "settings": r.settings,
+                  "config": r.config} for r in spec.runs],
+    }
+
+
+def run_campaign(spec: CampaignSpec, out_dir: str | Path, executor: RunExecutor | None = None,
+                 on_progress: Callable[[ProgressEvent], None] | None = None) -> CampaignResult:
+    """Run the pending runs of a campaign and write its records and summary.
+
+    Parameters
+    ----------
+    spec : CampaignSpec
+        From :func:`~impedance_mil.campaign.spec.load_campaign`.
+    out_dir : str or Path
+        The campaign folder (created; reused to resume).
+    executor : RunExecutor, optional
+        Where runs execute; default: a local process pool, one worker per core.
+        An executor passed in is shut down by the caller.
+    on_progress : callable, optional
+        Called in this process with a :class:`ProgressEvent` after every run.
+
+    Returns
+    -------
+    CampaignResult
+
+    Raises
+    ------
+    KeyboardInterrupt
+        After cancelling pending runs and writing the summary of what finished.
+    OSError
+        The campaign folder itself cannot be written.
+    """
+    store = CampaignStore(out_dir)
+    store.create()
+    store.write_json("campaign.json", manifest(spec))
+    skipped = tuple(run.run_id for run in spec.runs if store.is_done(run.run_id))
+    todo = [run for run in spec.runs if run.run_id not in set(skipped)]
+    own = executor is None
+    pool = make_executor() if own else executor
+    executed: list[str] = []
+    futures: dict[Any, RunSpec] = {}
+    try:
+        futures = {pool.submit(execute_run, spec.kind, run.config, str(store.root), run.run_id): run
+                   for run in todo}
+        for future in pool.as_completed(futures):
+            record = _record(spec, futures.pop(future), future)
+            store.write_record(record)
+            executed.append(record.run_id)
+            if on_progress is not None:
+                on_progress(ProgressEvent(len(executed), len(todo), record))
+    except KeyboardInterrupt:
+        pool.shutdown(cancel=True)
+        for future, run in futures.items():
+            if future.done() and not future.cancelled():
+                store.write_record(_record(spec, run, future))
+        write_summary(store, spec)
+        raise
+    finally:
+        if own:
+            pool.shutdown()
+    records = tuple(r for r in (store.load_record(run.run_id) for run in spec.runs) if r)
+    return CampaignResult(root=store.root, records=records, executed=tuple(executed),
+                          skipped=skipped, summary=write_summary(store, spec))

@@ -1,0 +1,68 @@
+"""The one table mapping a campaign *kind* to its run function and parameters.
+
+A run function has the signature ``run(config: dict, out_path: Path) -> dict``:
+it receives the full run configuration (internal units), writes its data to
+``out_path`` (an HDF5 file, or nothing), and returns a flat mapping of
+metric names to numbers.  Raising :class:`~impedance_mil.errors.LimitTripped`
+records the run as *aborted* (a legitimate outcome of a test); any other
+exception records it as *failed* with its reason.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+from ..errors import ConfigError
+from .params import Param
+from .selftest import SELFTEST_DEFAULTS, SELFTEST_PARAMS, run_selftest
+
+#: Signature of a run function.
+RunFunction = Callable[[dict[str, Any], Path], Mapping[str, Any]]
+
+
+@dataclass(frozen=True)
+class Kind:
+    """A campaign kind: what one run does and which parameters it accepts.
+
+    Parameters
+    ----------
+    name : str
+        Name used in campaign files (``kind = "mil"``).
+    run : callable
+        ``run(config, out_path) -> dict of metrics``.
+    params : mapping of str to Param
+        The parameters a campaign may set or vary.
+    defaults : mapping
+        The base run configuration before the campaign's settings.
+    description : str
+        One line for listings.
+    """
+
+    name: str
+    run: RunFunction
+    params: Mapping[str, Param]
+    defaults: Mapping[str, Any] = field(default_factory=dict)
+    description: str = ""
+
+
+#: Every campaign kind, by name.
+KINDS: dict[str, Kind] = {
+    "selftest": Kind("selftest", run_selftest, SELFTEST_PARAMS, SELFTEST_DEFAULTS,
+                     "modes of an SD isolator (engine and cluster check; no virtual lab)"),
+}
+
+
+def get_kind(name: str) -> Kind:
+    """Look up a campaign kind.
+
+    Raises
+    ------
+    ConfigError
+        The kind is unknown.
+    """
+    try:
+        return KINDS[name]
+    except KeyError:
+        raise ConfigError("campaign.kind", "one of " + ", ".join(sorted(KINDS)), name) from None
