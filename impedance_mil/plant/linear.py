@@ -1,0 +1,204 @@
+"""Linear model of the servo-hydraulic shake table, built from state space (report Section 4.3).
+
+The open-loop model is Eq 4-11 (servovalve Eq 4-3 in series with the
+actuator-table Eq 4-9), with inputs valve current u_i [mA] and test-article
+force w [lbf].  The hydraulic loop ``u_i = K_v (K_e (u - x) - K_p dP)`` is
+closed with the feedback delayed by one loop time tau_s, treated as
+
+* ``"none"``: analog controller, Eq 4-14b;
+* ``"first-order"``: ``e^{-s tau} ~ 1 - s tau``, Eq 4-13/4-14a (the report's model);
+* ``"pade"``: a Pade approximation of order n of ``e^{-s tau}`` on the feedback signal;
+* ``"sampled"``: the exact sampled-data loop (see :mod:`impedance_mil.plant.sampled`).
+
+The six transfer functions of Eq 4-15 follow from the state space; they are
+never typed in by hand (the tests compare them with Eq 4-15 coefficient by
+coefficient).
+
+States: ``x`` table displacement [in], ``v`` velocity [in/s], ``dp``
+differential pressure [psi], ``spool`` servovalve state in equivalent
+current [mA] (Eq 4-11 scaling: unit DC gain from u_i), ``spool_rate`` [mA/s].
+Sign convention (Eq 4-7b): ``m_st z = A_p dP + w``, w being the force the
+test article applies on the table.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import control
+import numpy as np
+import scipy.linalg
+import scipy.signal
+
+from ..errors import ConfigError, UnstableSystemError
+from ..systems import TransferFunction
+from .parameters import TableParameters
+from .sampled import SampledTable
+from .statespace import (INPUTS, OUTPUTS, PLANT_STATES, TableStateSpace, feedback_row,
+                         plant_state_space)
+
+#: Delay treatments of the loop time.
+DELAYS = ("none", "first-order", "pade", "sampled")
+#: Default order of the Pade approximation.
+DEFAULT_PADE_ORDER = 6
+
+
+def pade_state_space(tau: float, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """State space ``(Ad, bd, cd, dd)`` of the Pade approximation of ``e^{-s tau}``, tau [s].
+
+    Realized for tau = 1 and balanced, then scaled by ``1/tau`` (``s tau`` is
+    the natural variable), so that short delays do not give huge coefficients.
+    """
+    num, den = control.pade(1.0, order)
+    A1, b1, c1, d1 = scipy.signal.tf2ss(num, den)
+    A1, T = scipy.linalg.matrix_balance(A1, permute=False)
+    scaling = np.diag(T)
+    return A1 / tau, b1[:, 0] / scaling / tau, c1[0] * scaling, float(d1[0, 0])
+
+
+def closed_loop_state_space(p: TableParameters, delay: str = "first-order",
+                            pade_order: int = DEFAULT_PADE_ORDER) -> TableStateSpace:
+    """Closed hydraulic loop ``u_i = K_v (K_e u - [K_e x + K_p dP](t - tau_s))``.
+
+    Parameters
+    ----------
+    p : TableParameters
+        Model parameters.
+    delay : {"none", "first-order", "pade"}
+        Treatment of the one-loop feedback delay tau_s = ``p.loop_time`` [s].
+    pade_order : int
+        Order of the Pade approximation (``delay="pade"``).
+
+    Returns
+    -------
+    TableStateSpace
+        Eq 4-14b (``"none"``), Eq 4-14a (``"first-order"``) or the model
+        augmented with the Pade states (``"pade"``).
+    """
+    ol = plant_state_space(p)
+    A, b_i = ol.A, ol.B_u
+    k = feedback_row(p)
+    tau = p.loop_time
+    b_u = p.Kv * p.Ke * b_i
+    if delay == "none" or tau == 0.0:
+        A_cl = A - p.Kv * np.outer(b_i, k)
+        return TableStateSpace(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
+    if delay == "first-order":
+        # y(t - tau) ~ y - tau y' with y' = k A x (k B = 0: x and dP have no direct input)
+        k_delayed = k - tau * (k @ A)
+        A_cl = A - p.Kv * np.outer(b_i, k_delayed)
+        return TableStateSpace(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
+    if delay == "pade":
+        if pade_order < 1:
+            raise ConfigError("pade_order", "an integer >= 1", pade_order)
+        Ad, bd, cd, dd = pade_state_space(tau, pade_order)
+        n, q = A.shape[0], Ad.shape[0]
+        A_cl = np.block([
+            [A - p.Kv * dd * np.outer(b_i, k), -p.Kv * np.outer(b_i, cd)],
+            [np.outer(bd, k), Ad],
+        ])
+        pad = np.zeros(q)
+        C = {name: np.concatenate([row, pad]) for name, row in ol.C.items()}
+        states = PLANT_STATES + tuple(f"delay_{i + 1}" for i in range(q))
+        return TableStateSpace(A_cl, np.concatenate([b_u, pad]), np.concatenate([ol.B_w, pad]),
+                               C, ol.D, states)
+    raise ConfigError("delay", "one of none, first-order, pade", delay)
+
+
+@dataclass(frozen=True, eq=False)
+class LinearTable:
+    """Linear shake-table model for given parameters and delay treatment.
+
+    Parameters
+    ----------
+    params : TableParameters
+        Model parameters (report Table 4.1).
+    delay : {"none", "first-order", "pade", "sampled"}
+        Treatment of the controller loop time (see module docstring).
+    pade_order : int
+        Order of the Pade approximation for ``delay="pade"``.
+
+    Notes
+    -----
+    For ``delay="sampled"`` the model is discrete: :meth:`tf` raises
+    :class:`~impedance_mil.errors.ConfigError` (there is no continuous
+    transfer function), :meth:`sampled` gives the discrete model (discrete
+    transfer functions, frequency response), and :meth:`poles` returns its
+    poles mapped to the s-plane by ``ln(z)/T``.
+
+    Examples
+    --------
+    >>> tbl = LinearTable(TableParameters.report_default(), delay="none")
+    >>> tbl.tf("x", "u").dcgain()
+    1.0
+    """
+
+    params: TableParameters
+    delay: str = "first-order"
+    pade_order: int = DEFAULT_PADE_ORDER
+    _ss: TableStateSpace | None = field(default=None, init=False, repr=False)
+
+    def __post_init__(self):
+        if self.delay not in DELAYS:
+            raise ConfigError("delay", "one of " + ", ".join(DELAYS), self.delay)
+        if self.delay == "sampled":
+            if self.params.loop_time <= 0:
+                raise ConfigError("loop_time", "a positive loop time for delay='sampled'",
+                                  self.params.loop_time)
+            return
+        object.__setattr__(self, "_ss", closed_loop_state_space(self.params, self.delay,
+                                                                self.pade_order))
+
+    def state_space(self) -> TableStateSpace:
+        """The closed-loop state space (continuous delay treatments only)."""
+        if self._ss is None:
+            raise ConfigError("delay", "none, first-order or pade for a continuous state space "
+                              "(use LinearTable.sampled() for 'sampled')", self.delay)
+        return self._ss
+
+    def open_loop(self) -> TableStateSpace:
+        """Eq 4-11: valve current u_i [mA] and force w [lbf] to the table outputs."""
+        return plant_state_space(self.params)
+
+    def tf(self, output: str, input: str) -> TransferFunction:
+        """Transfer function ``output/input``.
+
+        Parameters
+        ----------
+        output : {"z", "x", "v", "dp"}
+            Acceleration [in/s^2], displacement [in], velocity [in/s] or dP [psi].
+        input : {"u", "w"}
+            Position command [in] or test-article force [lbf].
+        """
+        if output not in OUTPUTS:
+            raise ConfigError("output", "one of " + ", ".join(OUTPUTS), output)
+        if input not in INPUTS:
+            raise ConfigError("input", "one of " + ", ".join(INPUTS), input)
+        return self.state_space().tf(output, input)
+
+    def sampled(self) -> SampledTable:
+        """The exact sampled-data model (:class:`~impedance_mil.plant.sampled.SampledTable`)."""
+        return SampledTable.from_params(self.params)
+
+    def poles(self) -> np.ndarray:
+        """Closed-loop poles [rad/s] (for ``"sampled"``: ``ln(z)/T`` of the discrete poles)."""
+        if self.delay == "sampled":
+            return self.sampled().poles_s()
+        return self.state_space().poles()
+
+    def is_stable(self) -> bool:
+        """True when every closed-loop pole is in the open left half plane (|z| < 1 sampled)."""
+        if self.delay == "sampled":
+            return self.sampled().is_stable()
+        return bool(np.all(self.poles().real < 0))
+
+    def require_stable(self) -> "LinearTable":
+        """Return self, or raise :class:`UnstableSystemError` naming the unstable poles."""
+        if not self.is_stable():
+            bad = [p for p in self.poles() if p.real >= 0]
+            text = ", ".join(f"{abs(q) / (2 * np.pi):.1f} Hz (real part {q.real:+.2f} rad/s)"
+                             for q in bad) or "|z| >= 1"
+            raise UnstableSystemError(
+                f"the table loop is unstable (Ke={self.params.Ke:g} V/in, Kp={self.params.Kp:g} "
+                f"V/psi, loop_time={self.params.loop_time:g} s, delay={self.delay}): {text}")
+        return self

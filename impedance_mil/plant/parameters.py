@@ -1,0 +1,351 @@
+"""Shake-table model parameters (report Table 4.1) and the physical formulas behind them.
+
+Every field is in the report's units (see :mod:`impedance_mil.units`).  A
+table file is TOML whose values carry units (``mass = "1600 lb"``,
+``loop_time = "500 us"``) or are bare numbers in the report's unit.
+
+Two physical alternatives are accepted in files and ``--set`` overrides:
+``bulk_modulus`` [psi] instead of ``f_oil_hz`` (Eq 4-10a) and
+``leakage_coefficient`` [in^3/s/psi] instead of ``zeta_oil`` (Eq 4-10b).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+from typing import Any, Mapping
+
+from ..config import Field, parse_fields, read_toml
+from ..errors import ConfigError
+from ..units import TWO_PI
+
+#: The report's table (Table 4.1 with the erratum d = 1e5), shipped with the package.
+REPORT_TABLE_FILE = "report_table_4_1.toml"
+
+#: Keys of a table file: internal unit, range check and meaning.
+FIELDS: dict[str, Field] = {
+    "Ke": Field("volt / inch", "positive", help="proportional (position error) gain K_e [V/in]"),
+    "Kp": Field("volt / psi", "nonnegative", help="differential-pressure gain K_p [V/psi]"),
+    "Kv": Field("milliampere / volt", "positive", help="voltage-to-current gain K_v [mA/V]"),
+    "loop_time": Field("second", "nonnegative", help="controller loop time tau_s [s] (0 = analog)"),
+    "piston_area": Field("inch**2", "positive", help="piston area A_p [in^2]"),
+    "mid_stroke": Field("inch", "positive", help="mid-stroke position x_m [in]"),
+    "mass": Field("force_pound * second**2 / inch", "positive", help="moving table mass m_st"),
+    "d": Field("psi / second / milliampere", "positive", help="model constant d (Eq 4-12)"),
+    "valve_poles_hz": Field("hertz", "positive", count=2, help="servovalve poles [Hz]"),
+    "zeta_oil": Field("dimensionless", "fraction", help="oil-column damping ratio"),
+    "f_oil_hz": Field("hertz", "positive", help="oil-column frequency [Hz]"),
+    "supply_pressure": Field("psi", "positive", default=3000.0, help="supply pressure P_S"),
+    "return_pressure": Field("psi", "nonnegative", default=0.0, help="return pressure P_R"),
+    "rated_flow": Field("inch**3 / second", "positive", default=57.75, help="rated valve flow Q_max"),
+    "rated_pressure_drop": Field("psi", "positive", default=1000.0,
+                                 help="valve pressure drop at rated flow"),
+    "rated_current": Field("milliampere", "positive", default=25.0, help="rated valve current"),
+    "valve_command_limit": Field("volt", "positive", default=10.0, help="valve command limit |u_v|"),
+}
+
+#: Physical alternatives: key -> (replaced key, Field).
+ALTERNATIVES: dict[str, tuple[str, Field]] = {
+    "bulk_modulus": ("f_oil_hz", Field("psi", "positive", help="oil bulk modulus kappa (Eq 4-10a)")),
+    "leakage_coefficient": ("zeta_oil", Field("inch**3 / second / psi", "nonnegative",
+                                              help="piston leakage coefficient K_l (Eq 4-10b)")),
+}
+
+
+def oil_column_frequency(bulk_modulus: float, piston_area: float, mass: float,
+                         mid_stroke: float) -> float:
+    """Oil-column angular frequency, Eq 4-10a: ``sqrt(2 A_p kappa / (m_st x_m))``.
+
+    Parameters
+    ----------
+    bulk_modulus : float
+        Oil bulk modulus kappa [psi].
+    piston_area : float
+        Piston area A_p [in^2].
+    mass : float
+        Moving table mass m_st [lbf*s^2/in].
+    mid_stroke : float
+        Mid-stroke position x_m [in].
+
+    Returns
+    -------
+    float
+        omega_oil [rad/s].
+
+    Examples
+    --------
+    >>> round(oil_column_frequency(1e5, 2.1, 4.14, 3.2), 1)  # report: 178 rad/s
+    178.1
+    """
+    return math.sqrt(2.0 * piston_area * bulk_modulus / (mass * mid_stroke))
+
+
+def bulk_modulus_from_frequency(omega_oil: float, piston_area: float, mass: float,
+                                mid_stroke: float) -> float:
+    """Bulk modulus kappa [psi] that gives ``omega_oil`` [rad/s] (Eq 4-10a inverted)."""
+    return omega_oil**2 * mass * mid_stroke / (2.0 * piston_area)
+
+
+def oil_column_damping(leakage_coefficient: float, bulk_modulus: float, piston_area: float,
+                       mass: float, mid_stroke: float) -> float:
+    """Oil-column damping ratio, Eq 4-10b: ``K_l sqrt(m_st kappa / (2 A_p^3 x_m))``.
+
+    Parameters
+    ----------
+    leakage_coefficient : float
+        Leakage (flow-pressure) coefficient K_l [in^3/s/psi].
+    bulk_modulus : float
+        Oil bulk modulus kappa [psi].
+    piston_area : float
+        Piston area A_p [in^2].
+    mass : float
+        Moving table mass m_st [lbf*s^2/in].
+    mid_stroke : float
+        Mid-stroke position x_m [in].
+
+    Returns
+    -------
+    float
+        zeta_oil [-].
+    """
+    return leakage_coefficient * math.sqrt(mass * bulk_modulus / (2.0 * piston_area**3 * mid_stroke))
+
+
+def model_constant_d(bulk_modulus: float, piston_area: float, mid_stroke: float,
+                     orifice_coefficient: float, supply_pressure: float, fluid_density: float,
+                     valve_flow_gain: float, spool_flow_gain: float) -> float:
+    """Model constant d of Eq 4-11, from Eq 4-12 (as corrected in docs/errata.md).
+
+    ``d = 2 kappa / (A_p x_m) * C_d G sqrt(P_S / rho) * K_r / K_s``: the
+    pressure-rate gain of Eq 4-9 per inch of spool times the spool travel
+    per mA of Eq 4-2/4-3.  (The report prints ``K_r/K_s`` under the square
+    root, which is dimensionally inconsistent.)
+
+    Parameters
+    ----------
+    bulk_modulus : float
+        kappa [psi].
+    piston_area : float
+        A_p [in^2].
+    mid_stroke : float
+        x_m [in].
+    orifice_coefficient : float
+        C_d G at null, discharge coefficient times area gradient [in].
+    supply_pressure : float
+        P_S [psi].
+    fluid_density : float
+        rho [lbf*s^2/in^4].
+    valve_flow_gain : float
+        K_r = Q_max / u_i,max [in^3/s/mA].
+    spool_flow_gain : float
+        K_s, flow per spool travel [in^2/s].
+
+    Returns
+    -------
+    float
+        d [psi/(s*mA)].
+    """
+    pressure_rate_per_spool = (2.0 * bulk_modulus / (piston_area * mid_stroke)
+                               * orifice_coefficient * math.sqrt(supply_pressure / fluid_density))
+    return pressure_rate_per_spool * valve_flow_gain / spool_flow_gain
+
+
+def _check_positive(name: str, value: float, allow_zero: bool = False) -> None:
+    ok = value >= 0 if allow_zero else value > 0
+    if not (math.isfinite(value) and ok):
+        raise ConfigError(name, "a non-negative finite value" if allow_zero
+                          else "a positive finite value", value)
+
+
+@dataclass(frozen=True)
+class TableParameters:
+    """Parameters of the uniaxial shake-table model (report Table 4.1), internal units.
+
+    Parameters
+    ----------
+    Ke : float
+        Proportional gain K_e [V/in] (0 allowed here for root loci; files need > 0).
+    Kp : float
+        Differential-pressure gain K_p [V/psi].
+    Kv : float
+        Voltage-to-current gain K_v [mA/V].
+    loop_time : float
+        Controller loop time tau_s [s]; 0 is an analog controller.
+    piston_area : float
+        A_p [in^2].
+    mid_stroke : float
+        x_m [in].
+    mass : float
+        Moving table mass m_st [lbf*s^2/in].
+    d : float
+        Model constant of Eq 4-11/4-12 [psi/(s*mA)].
+    valve_poles_hz : tuple of float
+        Servovalve poles alpha_1/2pi, alpha_2/2pi [Hz] (Eq 4-2).
+    zeta_oil : float
+        Oil-column damping ratio [-].
+    f_oil_hz : float
+        Oil-column frequency omega_oil/2pi [Hz].
+    supply_pressure, return_pressure : float
+        P_S, P_R [psi].
+    rated_flow : float
+        Rated valve flow Q_max [in^3/s] at ``rated_pressure_drop`` [psi].
+    rated_pressure_drop : float
+        [psi].
+    rated_current : float
+        Rated valve current u_i,max [mA].
+    valve_command_limit : float
+        Limit of the valve command |u_v| [V].
+
+    Examples
+    --------
+    >>> p = TableParameters.report_default()
+    >>> p.Ke, p.Kp, p.d
+    (5.0, 0.001, 100000.0)
+    >>> p.replace(Ke=4.0).Ke
+    4.0
+    """
+
+    Ke: float
+    Kp: float
+    Kv: float
+    loop_time: float
+    piston_area: float
+    mid_stroke: float
+    mass: float
+    d: float
+    valve_poles_hz: tuple[float, float]
+    zeta_oil: float
+    f_oil_hz: float
+    supply_pressure: float = 3000.0
+    return_pressure: float = 0.0
+    rated_flow: float = 57.75
+    rated_pressure_drop: float = 1000.0
+    rated_current: float = 25.0
+    valve_command_limit: float = 10.0
+
+    def __post_init__(self):
+        for name in ("Ke", "Kp", "loop_time", "zeta_oil", "return_pressure"):
+            _check_positive(name, float(getattr(self, name)), allow_zero=True)
+        for name in ("Kv", "piston_area", "mid_stroke", "mass", "d", "f_oil_hz",
+                     "supply_pressure", "rated_flow", "rated_pressure_drop", "rated_current",
+                     "valve_command_limit"):
+            _check_positive(name, float(getattr(self, name)))
+        poles = tuple(float(f) for f in self.valve_poles_hz)
+        if len(poles) != 2:
+            raise ConfigError("valve_poles_hz", "two frequencies in Hz", self.valve_poles_hz)
+        for f in poles:
+            _check_positive("valve_poles_hz", f)
+        object.__setattr__(self, "valve_poles_hz", poles)
+        for name in FIELDS:
+            if name != "valve_poles_hz":
+                object.__setattr__(self, name, float(getattr(self, name)))
+
+    # ------------------------------------------------------------ constructors
+    @classmethod
+    def report_default(cls) -> "TableParameters":
+        """Table 4.1 of the report, with d = 1e5 (docs/errata.md, Table 4.1)."""
+        return cls.from_toml(default_table_path())
+
+    @classmethod
+    def from_mapping(cls, mapping: Mapping[str, Any], *, where: str = "") -> "TableParameters":
+        """Build from raw values (bare numbers in report units or strings with units).
+
+        Raises
+        ------
+        ConfigError
+            Unknown or missing key, wrong dimension, NaN, or out of range.
+        """
+        raw = dict(mapping)
+        physical: dict[str, float] = {}
+        for key, (replaced, spec) in ALTERNATIVES.items():
+            if key in raw:
+                if replaced in raw:
+                    raise ConfigError(f"{where}{key}", f"either {key} or {replaced}, not both")
+                physical[key] = parse_fields({key: spec}, {key: raw.pop(key)}, where=where)[key]
+                raw[replaced] = 0.5  # valid placeholder, replaced below
+        values = parse_fields(FIELDS, raw, where=where)
+        args = (values["piston_area"], values["mass"], values["mid_stroke"])
+        if "bulk_modulus" in physical:
+            values["f_oil_hz"] = oil_column_frequency(physical["bulk_modulus"], *args) / TWO_PI
+        if "leakage_coefficient" in physical:
+            kappa = bulk_modulus_from_frequency(TWO_PI * values["f_oil_hz"], *args)
+            values["zeta_oil"] = oil_column_damping(physical["leakage_coefficient"], kappa, *args)
+            if not values["zeta_oil"] < 1:
+                raise ConfigError(f"{where}leakage_coefficient", "a value giving zeta_oil < 1",
+                                  physical["leakage_coefficient"])
+        return cls(**values)
+
+    @classmethod
+    def from_toml(cls, path: str | Path, overrides: Mapping[str, Any] | None = None
+                  ) -> "TableParameters":
+        """Read a table file; ``overrides`` (e.g. from ``--set``) win over the file.
+
+        An override of a physical alternative (``bulk_modulus``) replaces the
+        key it stands for (``f_oil_hz``) from the file, and vice versa.
+
+        Raises
+        ------
+        DataFileError
+            The file is missing or not TOML.
+        ConfigError
+            A key is unknown, missing or invalid (the message names it).
+        """
+        data = read_toml(path)
+        table = data.get("table", data)
+        if not isinstance(table, Mapping):
+            raise ConfigError(f"{path}: table", "a TOML table of parameters", table)
+        merged = {k: v for k, v in table.items()}
+        for key, value in dict(overrides or {}).items():
+            for alt, (replaced, _) in ALTERNATIVES.items():
+                if key == alt:
+                    merged.pop(replaced, None)
+                elif key == replaced:
+                    merged.pop(alt, None)
+            merged[key] = value
+        return cls.from_mapping(merged)
+
+    # -------------------------------------------------------------- utilities
+    def replace(self, **changes: Any) -> "TableParameters":
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """All fields in internal units; ``valve_poles_hz`` as a list."""
+        out = asdict(self)
+        out["valve_poles_hz"] = list(self.valve_poles_hz)
+        return out
+
+    # ------------------------------------------------------- derived quantities
+    @property
+    def omega_oil(self) -> float:
+        """Oil-column angular frequency [rad/s]."""
+        return TWO_PI * self.f_oil_hz
+
+    @property
+    def valve_poles(self) -> tuple[float, float]:
+        """Servovalve pole magnitudes alpha_1, alpha_2 [rad/s] (poles at -alpha)."""
+        return (TWO_PI * self.valve_poles_hz[0], TWO_PI * self.valve_poles_hz[1])
+
+    @property
+    def bulk_modulus(self) -> float:
+        """Bulk modulus kappa [psi] consistent with ``f_oil_hz`` (Eq 4-10a)."""
+        return bulk_modulus_from_frequency(self.omega_oil, self.piston_area, self.mass,
+                                           self.mid_stroke)
+
+    @property
+    def leakage_coefficient(self) -> float:
+        """Leakage coefficient K_l [in^3/s/psi] consistent with ``zeta_oil`` (Eq 4-10b)."""
+        unit = oil_column_damping(1.0, self.bulk_modulus, self.piston_area, self.mass,
+                                  self.mid_stroke)
+        return self.zeta_oil / unit
+
+    @property
+    def valve_flow_gain(self) -> float:
+        """Static valve flow gain K_r = Q_max / u_i,max [in^3/s/mA] (Section 4.3.2)."""
+        return self.rated_flow / self.rated_current
+
+
+def default_table_path() -> Path:
+    """Path of the packaged report table file (Table 4.1 as corrected)."""
+    return Path(__file__).resolve().parent.parent / "data" / "tables" / REPORT_TABLE_FILE
