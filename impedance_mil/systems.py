@@ -30,21 +30,50 @@ CANCEL_RTOL = 1e-6
 Number = Union[int, float, complex, np.number]
 
 
-def _trim(coeffs: np.ndarray, rtol: float = 1e-13) -> np.ndarray:
-    """Drop leading coefficients that are negligible relative to the largest."""
+#: Relative size below which the sum of two coefficients counts as exact cancellation.
+SUM_RTOL = 1e-12
+
+
+def _trim(coeffs: np.ndarray) -> np.ndarray:
+    """Drop leading coefficients that are exactly zero.
+
+    Coefficients of polynomials in s [rad/s] routinely span 20 orders of
+    magnitude (``1e-12 s**5 ... + 1``), so no tolerance relative to the largest
+    coefficient is safe here; near-cancellation is removed where it arises
+    (:func:`_padd`, :meth:`TransferFunction.from_ss`).
+    """
     c = np.atleast_1d(np.asarray(coeffs, dtype=float))
     if c.size == 0:
         return np.zeros(1)
-    scale = np.max(np.abs(c))
-    if scale == 0:
+    nz = np.nonzero(c)[0]
+    if nz.size == 0:
         return np.zeros(1)
-    nz = np.nonzero(np.abs(c) > rtol * scale)[0]
     return c[nz[0]:].copy()
 
 
-def _padd(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _padd(a: np.ndarray, b: np.ndarray, rtol: float = SUM_RTOL) -> np.ndarray:
+    """Sum of two polynomials; a coefficient that cancels to rounding level becomes exactly 0."""
     n = max(a.size, b.size)
-    return np.pad(a, (n - a.size, 0)) + np.pad(b, (n - b.size, 0))
+    pa, pb = np.pad(a, (n - a.size, 0)), np.pad(b, (n - b.size, 0))
+    out = pa + pb
+    out[np.abs(out) <= rtol * (np.abs(pa) + np.abs(pb))] = 0.0
+    return out
+
+
+def _trim_scaled(c: np.ndarray, omega: float, rtol: float) -> np.ndarray:
+    """Drop leading coefficients negligible on the frequency scale ``omega`` [rad/s].
+
+    Coefficient ``c_k`` of ``s**(n-k)`` is compared through ``|c_k| omega**(n-k)``
+    with the largest such term.
+    """
+    c = _trim(c)
+    n = c.size - 1
+    if n == 0 or omega <= 0:
+        return c
+    terms = np.abs(c) * omega ** np.arange(n, -1, -1, dtype=float)
+    big = np.max(terms)
+    keep = np.nonzero(terms > rtol * big)[0]
+    return c[keep[0]:].copy() if keep.size else np.zeros(1)
 
 
 def _real_poly(roots: Iterable[complex]) -> np.ndarray:
@@ -105,7 +134,10 @@ class TransferFunction:
         C = np.asarray(C, dtype=float).reshape(1, -1)
         D = np.asarray(D, dtype=float).reshape(1, 1)
         num, den = scipy.signal.ss2tf(A, B, C, D)
-        return cls(num[0], den)
+        # ss2tf leaves rounding residue where the numerator degree drops; judge it
+        # on the frequency scale of the system (spectral radius of A).
+        omega = float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 1.0
+        return cls(_trim_scaled(num[0], omega if omega > 0 else 1.0, 1e-10), den)
 
     @classmethod
     def from_zpk(cls, zeros, poles, gain: float) -> "TransferFunction":
@@ -256,17 +288,40 @@ class TransferFunction:
         poles = list(np.roots(den)) if den.size > 1 else []
         kept_zeros = []
         for z in zeros:
-            match = None
-            best = np.inf
-            for i, p in enumerate(poles):
-                dist = abs(z - p)
-                if dist <= rtol * max(abs(z), abs(p)) and dist < best:
-                    match, best = i, dist
+            match = _nearest_cancelling_pole(z, poles, num, den, rtol)
             if match is None:
                 kept_zeros.append(z)
             else:
                 poles.pop(match)
         return TransferFunction(gain * _real_poly(kept_zeros), _real_poly(poles))
+
+    def mul_cancel(self, other, rtol: float = CANCEL_RTOL) -> "TransferFunction":
+        """Product ``self*other`` with pole-zero cancellation done factor by factor.
+
+        The cross ratios ``num_a/den_b`` and ``num_b/den_a`` are reduced
+        before multiplying, so common factors are found among the roots of
+        the low-degree factors (accurate to rounding) instead of among the
+        roots of the product polynomials (where clustered roots lose digits).
+
+        Parameters
+        ----------
+        other : TransferFunction or float
+        rtol : float
+            Relative tolerance of the cancellation (dimensionless).
+        """
+        o = self._coerce(other)
+        if o is NotImplemented:
+            raise TypeError(f"cannot multiply a TransferFunction by {type(other).__name__}")
+        left = TransferFunction(self.num, o.den).minreal(rtol)
+        right = TransferFunction(o.num, self.den).minreal(rtol)
+        return (left * right).minreal(rtol)
+
+    def div_cancel(self, other, rtol: float = CANCEL_RTOL) -> "TransferFunction":
+        """Quotient ``self/other`` with factor-wise cancellation (see :meth:`mul_cancel`)."""
+        o = self._coerce(other)
+        if o is NotImplemented:
+            raise TypeError(f"cannot divide a TransferFunction by {type(other).__name__}")
+        return self.mul_cancel(o.inv(), rtol)
 
     # ------------------------------------------------------------ comparisons
     def isclose(self, other: "TransferFunction", rtol: float = 1e-9) -> bool:
@@ -288,6 +343,24 @@ class TransferFunction:
         A, B, C, D = scipy.signal.tf2ss(self.num, self.den)
         return A, B, C, D
 
+    @classmethod
+    def from_dict(cls, data) -> "TransferFunction":
+        """Inverse of :meth:`to_dict`.
+
+        Raises
+        ------
+        ValueError
+            ``data`` is not a mapping with numeric lists ``num`` and ``den``.
+        """
+        try:
+            num = np.asarray(data["num"], dtype=float)
+            den = np.asarray(data["den"], dtype=float)
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ValueError(f"expected {{'num': [...], 'den': [...]}} ({exc})") from None
+        if num.ndim != 1 or den.ndim != 1 or not (np.all(np.isfinite(num)) and np.all(np.isfinite(den))):
+            raise ValueError("num and den must be flat lists of finite numbers")
+        return cls(num, den)
+
     def to_dict(self) -> dict:
         """``{"num": [...], "den": [...]}`` in descending powers of s."""
         return {"num": [float(c) for c in self.num], "den": [float(c) for c in self.den]}
@@ -297,7 +370,43 @@ class TransferFunction:
 
 
 def _negligible_tail(c: np.ndarray, rtol: float = 1e-12) -> bool:
-    return abs(c[-1]) <= rtol * np.max(np.abs(c))
+    """True when the polynomial has a root at the origin.
+
+    Scale-free test: exactly zero, or the smallest root ``~ c[-1]/c[-2]`` is
+    ``rtol`` times smaller than the next root scale ``~ c[-2]/c[-3]``.
+    """
+    if c[-1] == 0:
+        return True
+    if c.size < 3 or c[-2] == 0 or c[-3] == 0:
+        return False
+    return abs(c[-1] * c[-3]) <= rtol * c[-2] ** 2
+
+
+def _backward_error(coeffs: np.ndarray, r: complex) -> float:
+    """Relative backward error of ``r`` as a root of the polynomial ``coeffs``."""
+    scale = np.polyval(np.abs(coeffs), abs(r))
+    return float(abs(np.polyval(coeffs, r)) / scale) if scale > 0 else 0.0
+
+
+def _nearest_cancelling_pole(z: complex, poles: list, num: np.ndarray, den: np.ndarray,
+                             rtol: float):
+    """Index of the pole that cancels the zero ``z``, or None.
+
+    A pair cancels when ``|z - p| <= rtol*max(|z|, |p|)``, or, for clustered
+    roots whose computed positions lose digits, when ``|z - p|`` is within
+    ``sqrt(rtol)`` relative and each is a root of the other polynomial to a
+    relative backward error ``rtol``.
+    """
+    best, match = np.inf, None
+    for i, p in enumerate(poles):
+        dist = abs(z - p)
+        size = max(abs(z), abs(p))
+        ok = dist <= rtol * size or (
+            dist <= np.sqrt(rtol) * size
+            and _backward_error(num, p) <= rtol and _backward_error(den, z) <= rtol)
+        if ok and dist < best:
+            match, best = i, dist
+    return match
 
 
 def pole_table(poles: np.ndarray) -> list[dict]:

@@ -77,3 +77,47 @@ def test_pole_table_frequency_and_damping():
     assert rows[0]["damping"] == pytest.approx(0.09)
     assert rows[2]["frequency_hz"] == pytest.approx(70.0)
     assert rows[2]["damping"] == pytest.approx(1.0)
+
+
+def test_wide_coefficient_range_is_not_trimmed():
+    # Coefficients spanning 20+ decades (H_uz of Eq 6-8a times a filter) must survive:
+    # only exact zeros are leading zeros.
+    H = TransferFunction([4.3e-12, 5.0e-9, 1.4e-6, 5.8e-4, 3.7e-2, 1.0], [1.0, 0.0, 0.0])
+    P = H * TransferFunction([1.27e8], [1.0, 1.01e3, 5.05e5, 1.27e8])
+    assert P.num.size == 6 and P.relative_degree == 0
+
+
+def test_sum_cancels_to_exact_zero_relative_to_operands():
+    a = TransferFunction([1.0 / 3.0, 2.0], [1.0, 1.0])
+    b = TransferFunction([1.0 / 3.0 * (1 + 1e-15), 1.0], [1.0, 1.0])
+    d = (a - b)
+    # (s+1)/(s+1)^2 before cancellation: the s^2 term of the numerator (1e-16) is removed exactly.
+    assert d.num.size == 2 and d.relative_degree == 1
+
+
+def test_mul_cancel_removes_shared_denominator_exactly():
+    # H_zw/H_zu of the report's table share the fifth-order denominator and s^2: the quotient
+    # is the cubic polynomial of Eq 6-8b.  A product-then-minreal loses those roots in clusters.
+    a1, a2, w, z = TWO_PI * 70, TWO_PI * 110, TWO_PI * 27, 0.09
+    den = np.polymul(np.polymul([1, a1], [1, a2]), np.polymul([1, 2 * z * w, w**2], [1, 5.0]))
+    Hzu = TransferFunction([3e9, 0, 0], den)
+    Hzw = TransferFunction(np.polymul([1.0, 300.0, 4e4, 2e6], [1.0, 0.0, 0.0]), den)
+    Q = Hzw.div_cancel(Hzu)
+    assert Q.den.tolist() == [1.0]
+    np.testing.assert_allclose(Q.num, np.array([1.0, 300.0, 4e4, 2e6]) / 3e9, rtol=1e-9)
+
+
+def test_dict_round_trip_and_bad_dicts():
+    H = TransferFunction([1e-12, 3.0], [1.0, 2.0, 5.0])
+    assert TransferFunction.from_dict(H.to_dict()).isclose(H, rtol=0)
+    for bad in ({"num": [1]}, {"num": "x", "den": [1]}, {"num": [[1, 2]], "den": [1]},
+                {"num": [float("nan")], "den": [1]}):
+        with pytest.raises(ValueError):
+            TransferFunction.from_dict(bad)
+
+
+def test_from_ss_drops_rounding_residue_in_numerator():
+    # x'' = u: ss2tf may leave ~1e-16 leading numerator terms; the result must be 1/s^2.
+    A = [[0.0, 1.0], [-4.0, -0.4]]
+    H = TransferFunction.from_ss(A, [0.0, 1.0], [1.0, 0.0])
+    assert H.relative_degree == 2

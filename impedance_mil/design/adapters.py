@@ -1,0 +1,40 @@
+"""Build the design's table and VS models from :mod:`impedance_mil.plant` and :mod:`impedance_mil.virtual`.
+
+The rest of :mod:`impedance_mil.design` works on transfer functions only;
+this module is the one place that knows the classes of the other packages.
+"""
+
+from __future__ import annotations
+
+from typing import Optional
+
+from ..plant import LinearTable, TableParameters
+from ..virtual.base import VirtualSystem
+from .forms import TableModel, VirtualModel
+
+
+def table_model(params: TableParameters, delay: str = "first-order") -> TableModel:
+    """The design's view of a table: ``H_zu``, ``H_zw`` (Eq 4-15a, 4-15d) and the loop time.
+
+    Parameters
+    ----------
+    params : TableParameters
+        Table parameters (Table 4.1).
+    delay : str
+        Delay treatment of :class:`~impedance_mil.plant.LinearTable`; the
+        report designs with ``"first-order"``.
+
+    Raises
+    ------
+    UnstableSystemError
+        The table loop is unstable for these parameters.
+    """
+    tbl = LinearTable(params, delay=delay).require_stable()
+    return TableModel(tbl.tf("z", "u"), tbl.tf("z", "w"), float(params.loop_time), params.to_dict())
+
+
+def virtual_model(vs: VirtualSystem, name: Optional[str] = None) -> VirtualModel:
+    """The design's view of a VS: its linear part (Eq 5-2, 5-8, 5-13)."""
+    lp = vs.linear_part()
+    return VirtualModel(lp.H_zag, lp.H_zw, lp.H_zfh, kind=str(vs.kind), name=name,
+                        parameters=vs.to_dict())

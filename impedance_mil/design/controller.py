@@ -1,0 +1,315 @@
+"""Filtered MIL controller design: one form, one cut-off, constraints checked (Eq 6-9, 6-11).
+
+:func:`design_controller` is the entry point: it builds the ideal controller
+of the chosen form (:mod:`.forms`), filters each path with a low-pass filter
+of the order its relative degree requires (:mod:`.filters`), evaluates the
+three constraints (:mod:`.constraints`) at the cut-off and at any other
+cut-offs asked for, and returns a :class:`ControllerDesign`.
+
+The design is continuous-time: a cut-off at or above the Nyquist frequency
+of the loop is allowed for analysis (Table 9.5 uses 1000 Hz with a 2000 Hz
+loop) but carries a warning; :mod:`impedance_mil.implement` refuses it.
+"""
+
+from __future__ import annotations
+
+import warnings as _warnings
+from dataclasses import dataclass, field
+from typing import Any, Mapping, Optional, Sequence
+
+import numpy as np
+
+from .. import __version__
+from ..errors import ConfigError, DesignWarning, ImilError, UnstableDesignError
+from ..systems import TransferFunction
+from ..units import TWO_PI
+from .constraints import ConstraintResult, DesignCriteria, controlled_table, evaluate_constraints
+from .filters import FAMILIES, apply_filter
+from .forms import FORMS, IdealController, TableModel, VirtualModel, ideal_controller
+
+
+@dataclass(frozen=True)
+class FilterSpec:
+    """The filters of a design: family and the order on each path.
+
+    Attributes
+    ----------
+    family : str
+        Filter family.
+    order_z, order_w : int
+        Order on the reference path (``H_uz``) and on the ``w`` path.
+    order_fh : int
+        Order on the ``f_h`` path (0 when absent).
+    ripple_db : float
+        Chebyshev I ripple [dB].
+    fc_w_hz : float or None
+        Separate cut-off of the ``w`` path [Hz]; None: same as ``fc_hz``.
+    """
+
+    family: str = "butterworth"
+    order_z: int = 3
+    order_w: int = 3
+    order_fh: int = 0
+    ripple_db: float = 0.5
+    fc_w_hz: Optional[float] = None
+
+    def to_dict(self) -> dict:
+        return {"family": self.family, "order_z": int(self.order_z), "order_w": int(self.order_w),
+                "order_fh": int(self.order_fh), "ripple_db": float(self.ripple_db),
+                "fc_w_hz": None if self.fc_w_hz is None else float(self.fc_w_hz)}
+
+
+@dataclass(frozen=True)
+class ControllerDesign:
+    """A filtered, proper MIL controller ``u = H_uz r + H_uw w [+ H_ufh f_h]``.
+
+    Attributes
+    ----------
+    form : str
+        ``standardized``, ``vs-specific``, ``tracking`` or ``general``.
+    reference : str
+        The signal ``H_uz`` multiplies: ``"z_vs"`` (standardized) or ``"a_g"``.
+    fc_hz : float
+        Cut-off frequency of the filters [Hz].
+    filter : FilterSpec
+    loop_time_s : float
+        Loop time of the table controller [s].
+    H_uz, H_uw : TransferFunction
+        Filtered controller paths, proper, descending powers of s [rad/s];
+        every path is *added* (the minus sign of Eq 6-9 is inside H_uw).
+    H_ufh : TransferFunction or None
+    constraints : tuple of ConstraintResult
+        Constraints at ``fc_hz`` first, then at the other cut-offs asked for.
+    feasible_fc_hz : (float, float) or None
+        Range of cut-offs satisfying all constraints, when computed.
+    warnings : tuple of str
+    table : mapping
+        Table parameters (``TableParameters.to_dict()``).
+    vs : mapping or None
+        ``{"kind", "name", "parameters"}`` of the VS (None for tracking).
+    software_version : str
+    """
+
+    form: str
+    reference: str
+    fc_hz: float
+    filter: FilterSpec
+    loop_time_s: float
+    H_uz: TransferFunction
+    H_uw: TransferFunction
+    H_ufh: Optional[TransferFunction] = None
+    constraints: tuple[ConstraintResult, ...] = ()
+    feasible_fc_hz: Optional[tuple[float, float]] = None
+    warnings: tuple[str, ...] = ()
+    table: Mapping[str, Any] = field(default_factory=dict)
+    vs: Optional[Mapping[str, Any]] = None
+    software_version: str = __version__
+
+    def constraint_at(self, fc_hz: float) -> ConstraintResult:
+        """The constraint result for a cut-off [Hz] (KeyError when not evaluated)."""
+        for c in self.constraints:
+            if np.isclose(c.fc_hz, fc_hz, rtol=1e-9):
+                return c
+        raise KeyError(f"constraints not evaluated at fc = {fc_hz} Hz")
+
+    def to_json(self) -> dict:
+        """The ``imil design --json`` document (see docs/design.md)."""
+        return {
+            "form": self.form, "reference": self.reference, "fc_hz": float(self.fc_hz),
+            "filter": self.filter.to_dict(), "loop_time_s": float(self.loop_time_s),
+            "H_uz": self.H_uz.to_dict(), "H_uw": self.H_uw.to_dict(),
+            "H_ufh": None if self.H_ufh is None else self.H_ufh.to_dict(),
+            "sign_convention": "u = H_uz*%s + H_uw*w%s" % (self.reference,
+                                                          " + H_ufh*f_h" if self.H_ufh is not None else ""),
+            "constraints": [c.to_dict() for c in self.constraints],
+            "feasible_fc_hz": None if self.feasible_fc_hz is None else [float(x) for x in self.feasible_fc_hz],
+            "warnings": list(self.warnings),
+        }
+
+
+@dataclass(frozen=True)
+class FilteredPaths:
+    """The filtered paths of an ideal controller at one cut-off (internal result)."""
+
+    H_uz: TransferFunction
+    H_uw: TransferFunction
+    H_ufh: Optional[TransferFunction]
+    spec: FilterSpec
+
+
+def filter_controller(ideal: IdealController, fc_hz: float, family: str = "butterworth",
+                      order: Optional[int] = None, ripple_db: float = 0.5,
+                      fc_w_hz: Optional[float] = None) -> FilteredPaths:
+    """Filter every path of an ideal controller (Eq 6-9).
+
+    Parameters
+    ----------
+    ideal : IdealController
+    fc_hz : float
+        Cut-off [Hz] of the reference (and f_h) paths, and of the w path
+        unless ``fc_w_hz`` is given.
+    family : str
+        Filter family, one of :data:`~impedance_mil.design.filters.FAMILIES`.
+    order : int, optional
+        One order for every path; default the lowest each path needs.
+    ripple_db : float
+        Chebyshev I ripple [dB].
+    fc_w_hz : float, optional
+        Separate cut-off of the w path [Hz].
+
+    Raises
+    ------
+    ConfigError
+        Bad family, non-positive cut-off, or an order below a path's relative degree.
+    """
+    if family not in FAMILIES:
+        raise ConfigError("filter", "one of " + ", ".join(FAMILIES), family)
+    fw = fc_hz if fc_w_hz is None else fc_w_hz
+    H_uz, oz = apply_filter(ideal.H_uz, family, fc_hz, order, ripple_db)
+    H_uw, ow = apply_filter(ideal.H_uw, family, fw, order, ripple_db)
+    H_ufh, of = (None, 0)
+    if ideal.H_ufh is not None:
+        H_ufh, of = apply_filter(ideal.H_ufh, family, fc_hz, order, ripple_db)
+    return FilteredPaths(H_uz, H_uw, H_ufh, FilterSpec(family, oz, ow, of, ripple_db, fc_w_hz))
+
+
+def check_proper_and_stable(paths: FilteredPaths) -> list[str]:
+    """Refuse an improper or unstable filtered controller; return warnings for marginal poles.
+
+    Poles at the origin (the double integrator of ``1/H_zu``, Eq 6-8a) and
+    simple poles on the imaginary axis (the lossless FP linear part) are
+    allowed with a warning for the latter.
+
+    Raises
+    ------
+    UnstableDesignError
+        A path is improper or has a right-half-plane pole.
+    """
+    notes = []
+    for name, H in (("H_uz", paths.H_uz), ("H_uw", paths.H_uw), ("H_ufh", paths.H_ufh)):
+        if H is None:
+            continue
+        if not H.is_proper:
+            raise UnstableDesignError(f"filtered {name} is improper (relative degree {H.relative_degree})")
+        p = H.poles()
+        size = np.maximum(np.abs(p), 1.0)
+        if np.any(p.real > 1e-9 * size):
+            worst = p[np.argmax(p.real)]
+            raise UnstableDesignError(
+                f"filtered {name} has an unstable pole at {worst.real:.4g}{worst.imag:+.4g}j rad/s")
+        axis = p[(np.abs(p.real) <= 1e-9 * size) & (np.abs(p) > 1e-9)]
+        if axis.size:
+            notes.append(f"{name} has undamped poles at {np.abs(axis[0]) / TWO_PI:.3g} Hz "
+                         "(lossless VS linear part): the controller relies on the VS model's f_h for damping")
+    return notes
+
+
+def design_controller(table: TableModel, vs: Optional[VirtualModel] = None, *,
+                      form: str = "standardized", fc_hz: float = 80.0,
+                      family: str = "butterworth", order: Optional[int] = None,
+                      ripple_db: float = 0.5, fc_w_hz: Optional[float] = None,
+                      evaluate_fc_hz: Sequence[float] = (),
+                      criteria: Optional[DesignCriteria] = None,
+                      feasible_fc_hz: Optional[tuple[float, float]] = None,
+                      emit_warnings: bool = True) -> ControllerDesign:
+    """Design the filtered MIL controller of one form at one cut-off.
+
+    Parameters
+    ----------
+    table : TableModel
+        Linear table model (Eq 4-15a, 4-15d) and loop time.
+    vs : VirtualModel, optional
+        Linear part of the VS.  Required for ``general`` and ``vs-specific``;
+        for ``standardized`` it is used only to evaluate the constraints
+        (without it they are evaluated as for tracking); ignored for ``tracking``.
+    form : str
+        One of :data:`~impedance_mil.design.forms.FORMS`.
+    fc_hz : float
+        Cut-off [Hz], > 0.
+    family, order, ripple_db, fc_w_hz
+        Filter choice (see :func:`filter_controller`).
+    evaluate_fc_hz : sequence of float
+        Further cut-offs [Hz] at which to evaluate the constraints.
+    criteria : DesignCriteria, optional
+        Constraint thresholds.
+    feasible_fc_hz : (float, float), optional
+        Feasible range to record (from :func:`~impedance_mil.design.feasibility.feasible_fc_range`).
+    emit_warnings : bool
+        Also issue each warning as a :class:`~impedance_mil.errors.DesignWarning`.
+
+    Returns
+    -------
+    ControllerDesign
+
+    Raises
+    ------
+    ConfigError
+        Unknown form or filter, non-positive cut-off, order below the relative degree.
+    UnstableDesignError, UnstableSystemError
+        An unstable table, a non-minimum-phase ``H_zu``, an improper or
+        unstable VS, or an unstable filtered controller.
+
+    Examples
+    --------
+    >>> d = design_controller(table, form="standardized", fc_hz=80.0)  # doctest: +SKIP
+    >>> d.H_uw.is_proper
+    True
+    """
+    if form not in FORMS:
+        raise ConfigError("form", "one of " + ", ".join(FORMS), form)
+    for key, value in (("fc", fc_hz), ("fc_w", fc_w_hz)):
+        if value is not None and not (np.isfinite(value) and value > 0):
+            raise ConfigError(key, "a positive cut-off frequency in Hz", value)
+    c = criteria or DesignCriteria()
+    env = VirtualModel.rigid() if form == "tracking" or vs is None else vs
+    try:
+        ideal = ideal_controller(form, table, env)
+    except ValueError as exc:
+        if isinstance(exc, ImilError):
+            raise
+        raise ConfigError("form", str(exc), form) from None
+    notes: list[str] = []
+    results = []
+    paths = None
+    for k, fc in enumerate([fc_hz, *[x for x in evaluate_fc_hz if not np.isclose(x, fc_hz)]]):
+        if not (np.isfinite(fc) and fc > 0):
+            raise ConfigError("fc", "a positive cut-off frequency in Hz", fc)
+        fw = fc_w_hz if k == 0 else None
+        p = filter_controller(ideal, fc, family, order, ripple_db, fw)
+        if k == 0:
+            paths = p
+            notes += check_proper_and_stable(p)
+        ct = controlled_table(table, env, p.H_uz, p.H_uw, form)
+        results.append(evaluate_constraints(table, env, ct, fc, c))
+    notes += _warnings_for(table, fc_hz, fc_w_hz, results, vs is None and form == "standardized")
+    design = ControllerDesign(
+        form=form, reference=ideal.reference, fc_hz=float(fc_hz), filter=paths.spec,
+        loop_time_s=float(table.loop_time_s), H_uz=paths.H_uz, H_uw=paths.H_uw, H_ufh=paths.H_ufh,
+        constraints=tuple(results), feasible_fc_hz=feasible_fc_hz, warnings=tuple(notes),
+        table=dict(table.parameters),
+        vs=None if form == "tracking" or vs is None else
+        {"kind": vs.kind, "name": vs.name, "parameters": dict(vs.parameters)})
+    if emit_warnings:
+        for text in notes:
+            _warnings.warn(text, DesignWarning, stacklevel=2)
+    return design
+
+
+def _warnings_for(table: TableModel, fc_hz: float, fc_w_hz: Optional[float],
+                  results: list[ConstraintResult], no_vs: bool) -> list[str]:
+    notes = []
+    nyq = 0.5 / table.loop_time_s if table.loop_time_s > 0 else np.inf
+    for name, fc in (("fc", fc_hz), ("fc_w", fc_w_hz)):
+        if fc is not None and fc >= nyq:
+            notes.append(f"{name} = {fc:g} Hz is at or above the Nyquist frequency {nyq:g} Hz of the "
+                         f"{table.loop_time_s * 1e6:g} us loop: valid for continuous-time analysis only; "
+                         "the implementation step will refuse it")
+    first = results[0]
+    notes += first.violations()
+    if first.III and first.passivity_margin_deg < 0:
+        notes.append(f"marginally non-passive: margin {first.passivity_margin_deg:.2f} deg at "
+                     f"{first.passivity_worst_hz:.3g} Hz, within the first-order delay-model tolerance "
+                     "(see docs/design.md)")
+    if no_vs:
+        notes.append("no virtual system given: constraints evaluated for acceleration tracking (H_zw^vs = 0)")
+    return notes

@@ -1,0 +1,237 @@
+"""The four forms of the impedance-matching MIL controller, before filtering.
+
+Sign convention (used everywhere in :mod:`impedance_mil.design`, in the
+design file and by :mod:`impedance_mil.implement`)::
+
+    u = H_uz * r + H_uw * w [+ H_ufh * f_h]
+
+with every term *added*.  ``r`` is the controller's reference input: the
+target basemat acceleration ``z_vs`` [in/s**2] for the standardized form, the
+ground acceleration ``a_g`` [in/s**2] for the tracking, general and
+VS-specific forms.  ``w`` is the force of the test article on the table
+[lbf] (``m_st*z = A_p*dP + w``), ``u`` the table's reference position
+command [in].  The report writes the standardized controller with a minus
+sign (Eq 6-7, 6-9: ``u = H_z^filter H_uz z_vs - H_w^filter H_uw w`` with
+``H_uw = H_zw^st/H_zu^st``); here that minus sign is inside ``H_uw``.
+
+================  ==========================================  ============
+form              ideal controller (no filter)                report
+================  ==========================================  ============
+``general``       H_uz = H_zag^vs/H_zu^st,                    Eq 1-4, 6-3
+                  H_uw = (H_zw^vs - H_zw^st)/H_zu^st
+``vs-specific``   general + H_ufh = H_zfh^vs/H_zu^st          Eq 6-6
+``standardized``  H_uz = 1/H_zu^st, H_uw = -H_zw^st/H_zu^st   Eq 6-7
+``tracking``      standardized with r = z_vs = a_g            Eq 1-6, 8.1
+================  ==========================================  ============
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Mapping, Optional
+
+import numpy as np
+
+from ..errors import UnstableDesignError, UnstableSystemError
+from ..systems import TransferFunction
+
+#: The controller forms, in the order the report introduces them.
+FORMS = ("standardized", "vs-specific", "tracking", "general")
+
+#: Reference input of each form (the signal multiplied by ``H_uz``).
+REFERENCE_INPUT = {"standardized": "z_vs", "tracking": "a_g", "general": "a_g", "vs-specific": "a_g"}
+
+#: Real part below which a pole counts as on the imaginary axis [rad/s], relative to its size.
+AXIS_RTOL = 1e-9
+
+
+@dataclass(frozen=True)
+class TableModel:
+    """The linear shake-table model seen by the design (Eq 4-15a, 4-15d).
+
+    Parameters
+    ----------
+    H_zu : TransferFunction
+        Table acceleration per reference position command [in/s**2 per in].
+    H_zw : TransferFunction
+        Table acceleration per test-article force [in/s**2 per lbf].
+    loop_time_s : float
+        Controller loop time [s]; sets the Nyquist frequency and the
+        tolerance of the first-order delay approximation (Section 4.3.4).
+    parameters : mapping
+        The table parameters (``TableParameters.to_dict()``), kept for the design file.
+    """
+
+    H_zu: TransferFunction
+    H_zw: TransferFunction
+    loop_time_s: float
+    parameters: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def nyquist_hz(self) -> float:
+        """Nyquist frequency of the controller loop [Hz]."""
+        return 0.5 / self.loop_time_s
+
+
+@dataclass(frozen=True)
+class VirtualModel:
+    """The linear part of a virtual system (Eq 5-2, 5-8, 5-13).
+
+    Parameters
+    ----------
+    H_zag : TransferFunction
+        Basemat acceleration per ground acceleration [dimensionless].
+    H_zw : TransferFunction
+        Basemat acceleration per test-article force (the VS impedance) [in/s**2 per lbf].
+    H_zfh : TransferFunction or None
+        Basemat acceleration per nonlinear input ``f_h`` (LR, FP); None for a linear VS.
+    kind : str
+        ``"SD"``, ``"LR"``, ``"FP"``, ``"rigid"`` (tracking) or a user label.
+    name : str or None
+        Preset name (e.g. ``"SD2"``).
+    parameters : mapping
+        The VS parameters (``vs.to_dict()``), kept for the design file.
+    """
+
+    H_zag: TransferFunction
+    H_zw: TransferFunction
+    H_zfh: Optional[TransferFunction] = None
+    kind: str = "linear"
+    name: Optional[str] = None
+    parameters: Mapping[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def rigid(cls) -> "VirtualModel":
+        """The zero-impedance environment of acceleration tracking: ``H_zag = 1``, ``H_zw = 0`` (Section 8.1)."""
+        return cls(TransferFunction.constant(1.0), TransferFunction.constant(0.0), None, kind="rigid")
+
+
+@dataclass(frozen=True)
+class IdealController:
+    """An unfiltered (generally improper) MIL controller ``u = H_uz r + H_uw w + H_ufh f_h``.
+
+    Attributes
+    ----------
+    form : str
+        One of :data:`FORMS`.
+    reference : str
+        ``"z_vs"`` or ``"a_g"``: the signal that ``H_uz`` multiplies.
+    H_uz, H_uw : TransferFunction
+        [in per in/s**2], [in per lbf].
+    H_ufh : TransferFunction or None
+        [in per unit of f_h]; only for the VS-specific form of LR/FP.
+    """
+
+    form: str
+    reference: str
+    H_uz: TransferFunction
+    H_uw: TransferFunction
+    H_ufh: Optional[TransferFunction] = None
+
+    def paths(self) -> dict[str, TransferFunction]:
+        """The controller paths by name (``"z"``, ``"w"``, ``"fh"``)."""
+        out = {"z": self.H_uz, "w": self.H_uw}
+        if self.H_ufh is not None:
+            out["fh"] = self.H_ufh
+        return out
+
+
+def check_table(table: TableModel) -> None:
+    """Refuse a table model that no impedance-matching controller can invert.
+
+    Raises
+    ------
+    UnstableSystemError
+        ``H_zu`` or ``H_zw`` has poles in the closed right half plane (the
+        table loop itself is unstable).
+    UnstableDesignError
+        ``H_zu`` is zero, or has zeros in the right half plane (its inverse,
+        the controller, would be unstable), or is improper.
+    """
+    if table.H_zu.is_zero:
+        raise UnstableDesignError("H_zu of the table is zero: the table does not respond to u")
+    for name, H in (("H_zu", table.H_zu), ("H_zw", table.H_zw)):
+        if not H.is_stable():
+            worst = max(H.poles(), key=lambda p: p.real)
+            raise UnstableSystemError(
+                f"table {name} has a pole at {worst.real:.4g}{worst.imag:+.4g}j rad/s (unstable table loop); "
+                "reduce Ke or Kp, or shorten loop_time")
+        if not H.is_proper:
+            raise UnstableDesignError(f"table {name} is improper (relative degree {H.relative_degree})")
+    zeros = table.H_zu.zeros()
+    bad = zeros[zeros.real > AXIS_RTOL * np.maximum(np.abs(zeros), 1.0)]
+    if bad.size:
+        raise UnstableDesignError(
+            f"H_zu has a right-half-plane zero at {bad[0].real:.4g}{bad[0].imag:+.4g}j rad/s: "
+            "its inverse (the MIL controller) would be unstable")
+
+
+def check_virtual(vs: VirtualModel) -> None:
+    """Refuse a VS whose linear part is improper or unstable.
+
+    Poles on the imaginary axis (the lossless linear part of an FP system,
+    Eq 5-13) are accepted.
+
+    Raises
+    ------
+    UnstableDesignError
+        A VS transfer function is improper or has a pole with positive real part.
+    """
+    for name, H in (("H_zag", vs.H_zag), ("H_zw", vs.H_zw), ("H_zfh", vs.H_zfh)):
+        if H is None:
+            continue
+        if not H.is_proper:
+            raise UnstableDesignError(
+                f"virtual system {name} is improper (relative degree {H.relative_degree}): not causal")
+        p = H.poles()
+        bad = p[p.real > AXIS_RTOL * np.maximum(np.abs(p), 1.0)]
+        if bad.size:
+            raise UnstableDesignError(
+                f"virtual system {name} has an unstable pole at {bad[0].real:.4g}{bad[0].imag:+.4g}j rad/s")
+
+
+def ideal_controller(form: str, table: TableModel, vs: Optional[VirtualModel] = None) -> IdealController:
+    """The unfiltered controller of one form (Eq 1-4, 1-6, 6-3, 6-6, 6-7).
+
+    Parameters
+    ----------
+    form : str
+        One of :data:`FORMS`.
+    table : TableModel
+        The linear table model.
+    vs : VirtualModel, optional
+        Required for ``general`` and ``vs-specific``; ignored by
+        ``standardized`` (which depends on the table only) and ``tracking``.
+
+    Returns
+    -------
+    IdealController
+        Improper in general (``H_uz = 1/H_zu`` has relative degree -3).
+
+    Raises
+    ------
+    ValueError
+        Unknown form, or a VS missing where the form needs it.
+    UnstableDesignError, UnstableSystemError
+        See :func:`check_table`, :func:`check_virtual`.
+    """
+    if form not in FORMS:
+        raise ValueError(f"unknown controller form {form!r}; expected one of {', '.join(FORMS)}")
+    check_table(table)
+    H_zu, H_zw = table.H_zu, table.H_zw
+    if form in ("standardized", "tracking"):
+        H_uz = H_zu.inv().minreal()
+        H_uw = -(H_zw.div_cancel(H_zu))
+        return IdealController(form, REFERENCE_INPUT[form], H_uz, H_uw)
+    if vs is None:
+        raise ValueError(f"the {form} controller needs the virtual system's transfer functions")
+    check_virtual(vs)
+    H_uz = vs.H_zag.div_cancel(H_zu)
+    H_uw = (vs.H_zw - H_zw).minreal().div_cancel(H_zu)
+    H_ufh = None
+    if form == "vs-specific":
+        if vs.H_zfh is None:
+            raise ValueError(f"the vs-specific form needs H_zfh; the {vs.kind} system is linear "
+                             "(use form 'general' or 'standardized')")
+        H_ufh = vs.H_zfh.div_cancel(H_zu)
+    return IdealController(form, REFERENCE_INPUT[form], H_uz, H_uw, H_ufh)

@@ -1,0 +1,169 @@
+"""The design file: a filtered MIL controller handed to the implementation step.
+
+Schema (JSON, version 1)::
+
+    {"format": "impedance-mil/design", "version": 1, "software_version": str,
+     "form": "standardized"|"vs-specific"|"tracking"|"general",
+     "reference": "z_vs"|"a_g",
+     "sign_convention": "u = H_uz*<reference> + H_uw*w [+ H_ufh*f_h]",
+     "fc_hz": float,
+     "filter": {"family": str, "order_z": int, "order_w": int, "order_fh": int,
+                "ripple_db": float, "fc_w_hz": float|null},
+     "loop_time_s": float,
+     "table": {TableParameters.to_dict()},
+     "vs": {"kind": str, "name": str|null, "parameters": {...}}|null,
+     "H_uz": {"num": [...], "den": [...]}, "H_uw": {...}, "H_ufh": {...}|null,
+     "constraints": [...], "feasible_fc_hz": [lo, hi]|null, "warnings": [...]}
+
+Transfer functions are in descending powers of s [rad/s]; every path is
+added (``u = H_uz r + H_uw w + H_ufh f_h``), so for the standardized form
+``H_uw = -F_w H_zw^st/H_zu^st`` carries the minus sign of Eq 6-9.
+The file is written to a temporary name and renamed, so a failed write
+leaves nothing half-written.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from ..errors import DataFileError
+from ..systems import TransferFunction
+from .constraints import ConstraintResult
+from .controller import ControllerDesign, FilterSpec
+from .forms import FORMS, REFERENCE_INPUT
+
+#: Value of the "format" key.
+FORMAT = "impedance-mil/design"
+
+#: Current schema version.
+VERSION = 1
+
+_REQUIRED = ("format", "version", "software_version", "form", "fc_hz", "filter", "loop_time_s",
+             "table", "vs", "H_uz", "H_uw", "H_ufh", "constraints", "feasible_fc_hz", "warnings")
+
+
+def design_to_dict(design: ControllerDesign) -> dict[str, Any]:
+    """The design file document of ``design``."""
+    doc = {"format": FORMAT, "version": VERSION, "software_version": design.software_version}
+    body = design.to_json()
+    doc.update({
+        "form": body["form"], "reference": body["reference"], "sign_convention": body["sign_convention"],
+        "fc_hz": body["fc_hz"], "filter": body["filter"], "loop_time_s": body["loop_time_s"],
+        "table": _clean(dict(design.table)), "vs": _clean(design.vs),
+        "H_uz": body["H_uz"], "H_uw": body["H_uw"], "H_ufh": body["H_ufh"],
+        "constraints": body["constraints"], "feasible_fc_hz": body["feasible_fc_hz"],
+        "warnings": body["warnings"],
+    })
+    return _clean(doc)
+
+
+def save_design(design: ControllerDesign, path: str | os.PathLike) -> Path:
+    """Write ``design`` as JSON to ``path`` atomically (temporary file + rename).
+
+    Raises
+    ------
+    DataFileError
+        The directory does not exist or is not writable.
+    """
+    target = Path(path)
+    text = json.dumps(design_to_dict(design), indent=2, allow_nan=False)
+    directory = target.parent if str(target.parent) else Path(".")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+    except OSError as exc:
+        raise DataFileError(target, f"cannot write the design file ({exc.strerror or exc})") from None
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text + "\n")
+        os.replace(tmp, target)
+    except OSError as exc:
+        Path(tmp).unlink(missing_ok=True)
+        raise DataFileError(target, f"cannot write the design file ({exc.strerror or exc})") from None
+    return target
+
+
+def load_design(path: str | os.PathLike) -> ControllerDesign:
+    """Read a design file written by :func:`save_design`.
+
+    Raises
+    ------
+    DataFileError
+        Missing or unreadable file, not JSON, wrong format or version, a
+        missing field, or a malformed transfer function.
+    """
+    p = Path(path)
+    try:
+        doc = json.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise DataFileError(p, "file not found") from None
+    except IsADirectoryError:
+        raise DataFileError(p, "is a directory, expected a design file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise DataFileError(p, f"unreadable ({exc})") from None
+    except json.JSONDecodeError as exc:
+        raise DataFileError(p, f"not valid JSON ({exc.msg} at line {exc.lineno})") from None
+    return design_from_dict(doc, p)
+
+
+def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> ControllerDesign:
+    """Validate a design document and build the :class:`ControllerDesign`.
+
+    Raises
+    ------
+    DataFileError
+        See :func:`load_design`.
+    """
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise DataFileError(where, f"not an impedance-mil design file (expected format {FORMAT!r})")
+    if doc.get("version") != VERSION:
+        raise DataFileError(where, f"design file version {doc.get('version')!r} is not supported "
+                            f"(expected {VERSION})")
+    missing = [k for k in _REQUIRED if k not in doc]
+    if missing:
+        raise DataFileError(where, f"missing field {missing[0]!r}")
+    if doc["form"] not in FORMS:
+        raise DataFileError(where, f"form {doc['form']!r} is not one of {', '.join(FORMS)}")
+    try:
+        H = {k: (None if doc[k] is None else TransferFunction.from_dict(doc[k]))
+             for k in ("H_uz", "H_uw", "H_ufh")}
+        flt = doc["filter"]
+        spec = FilterSpec(str(flt["family"]), int(flt["order_z"]), int(flt["order_w"]),
+                          int(flt.get("order_fh", 0)), float(flt.get("ripple_db", 0.5)),
+                          None if flt.get("fc_w_hz") is None else float(flt["fc_w_hz"]))
+        constraints = tuple(ConstraintResult(**{k: (v if v is not None else math.nan)
+                                                for k, v in c.items()}) for c in doc["constraints"])
+        fc, loop = float(doc["fc_hz"]), float(doc["loop_time_s"])
+        feas = doc["feasible_fc_hz"]
+        feas = None if feas is None else (float(feas[0]), float(feas[1]))
+    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        raise DataFileError(where, f"malformed design ({exc})") from None
+    if H["H_uz"] is None or H["H_uw"] is None:
+        raise DataFileError(where, "H_uz and H_uw must be transfer functions")
+    for name, tf in H.items():
+        if tf is not None and not tf.is_proper:
+            raise DataFileError(where, f"{name} is improper: a design file holds filtered, proper controllers")
+    if not (fc > 0 and loop >= 0):
+        raise DataFileError(where, "fc_hz must be positive and loop_time_s non-negative")
+    return ControllerDesign(
+        form=doc["form"], reference=doc.get("reference", REFERENCE_INPUT[doc["form"]]), fc_hz=fc,
+        filter=spec, loop_time_s=loop, H_uz=H["H_uz"], H_uw=H["H_uw"], H_ufh=H["H_ufh"],
+        constraints=constraints, feasible_fc_hz=feas, warnings=tuple(str(w) for w in doc["warnings"]),
+        table=dict(doc["table"] or {}), vs=doc["vs"], software_version=str(doc["software_version"]))
+
+
+def _clean(value: Any) -> Any:
+    """JSON-safe copy: tuples to lists, numpy scalars to floats, NaN/inf to None."""
+    if isinstance(value, dict):
+        return {str(k): _clean(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_clean(v) for v in value]
+    if hasattr(value, "tolist"):
+        return _clean(value.tolist())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
