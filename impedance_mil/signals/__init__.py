@@ -1,5 +1,6 @@
 """Ground motions, response spectra, multisines and FRF estimation (report Sections 4.5, 8.2)."""
 
+from .fema import FEMA_RECORD_SETS, fema_available, read_fema_p695
 from .limits import LimitCheck, MotionCheck, TableLimits, check_motion, required_rated_flow
 from .motion import GroundMotion
 from .readers import BUILTIN_MOTIONS, builtin_motion, read_at2, read_columns, read_motion
@@ -8,6 +9,7 @@ from .spectrum import DEFAULT_PERIODS, Spectrum, oscillator_response, response_s
 __all__ = [
     "BUILTIN_MOTIONS",
     "DEFAULT_PERIODS",
+    "FEMA_RECORD_SETS",
     "GroundMotion",
     "LimitCheck",
     "MotionCheck",
@@ -15,8 +17,10 @@ __all__ = [
     "TableLimits",
     "builtin_motion",
     "check_motion",
+    "fema_available",
     "read_at2",
     "read_columns",
+    "read_fema_p695",
     "oscillator_response",
     "read_motion",
     "required_rated_flow",
