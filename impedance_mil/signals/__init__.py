@@ -3,7 +3,8 @@
 from .fema import FEMA_RECORD_SETS, fema_available, read_fema_p695
 from .limits import LimitCheck, MotionCheck, TableLimits, check_motion, required_rated_flow
 from .motion import GroundMotion
-from .readers import BUILTIN_MOTIONS, builtin_motion, read_at2, read_columns, read_motion
+from .readers import (BUILTIN_MOTIONS, builtin_motion, read_at2, read_columns, read_motion,
+                      write_columns)
 from .spectrum import DEFAULT_PERIODS, Spectrum, oscillator_response, response_spectrum
 
 __all__ = [
@@ -18,11 +19,12 @@ __all__ = [
     "builtin_motion",
     "check_motion",
     "fema_available",
+    "oscillator_response",
     "read_at2",
     "read_columns",
     "read_fema_p695",
-    "oscillator_response",
     "read_motion",
     "required_rated_flow",
     "response_spectrum",
+    "write_columns",
 ]

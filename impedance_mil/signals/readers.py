@@ -26,7 +26,9 @@ naming the file and the problem.
 
 from __future__ import annotations
 
+import os
 import re
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -343,3 +345,41 @@ def builtin_motion(name: str = "elcentro") -> GroundMotion:
     motion = read_motion(MOTIONS_DIR / record.filename, units=record.units)
     return GroundMotion(motion.time_step, motion.accel, record.name,
                         f"built-in '{key}': {motion.source}")
+
+
+def write_columns(motion: GroundMotion, path: str | Path, units: str = "g") -> Path:
+    """Write a motion as CSV ``time_s,accel_<units>`` (readable by :func:`read_columns`).
+
+    The file is written under a temporary name in the same folder and then
+    renamed, so a failure leaves nothing half-written.
+
+    Parameters
+    ----------
+    motion : GroundMotion
+        The motion.
+    path : str or Path
+        Target file.
+    units : str
+        Unit of the written accelerations (default g).
+
+    Raises
+    ------
+    ConfigError
+        ``units`` is not an acceleration unit.
+    OSError
+        The folder does not exist or is not writable.
+    """
+    target = Path(path)
+    factor = _unit_factor(units)
+    rows = np.column_stack((motion.time, motion.accel / factor))
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(f"# {motion.name}\n# {motion.source}\n")
+            np.savetxt(fh, rows, delimiter=",", fmt="%.10g", header=f"time_s,accel_{units}", comments="")
+        os.replace(tmp, target)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return target

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from impedance_mil.cli.main import run
-from impedance_mil.signals import builtin_motion, check_motion, response_spectrum, TableLimits
+from impedance_mil.signals import (TableLimits, builtin_motion, check_motion, read_motion,
+                                   response_spectrum)
 
 
 def _imil(monkeypatch, capsys, *args):
@@ -138,3 +139,21 @@ def test_plot_histories(monkeypatch, capsys, tmp_path):
     target = tmp_path / "hist.svg"
     code, _, _ = _imil(monkeypatch, capsys, "motion", "plot", "elcentro", "-o", str(target))
     assert code == 0 and target.read_text().lstrip().startswith("<?xml")
+
+
+def test_export_for_the_loop_round_trips(monkeypatch, capsys, tmp_path):
+    # GM1 at the report's 2000 Hz loop: 0.005 s -> 0.0005 s is 10/1; reading the CSV back gives the
+    # same samples (10 significant digits written) and the motion ends at rest (baseline-corrected).
+    target = tmp_path / "gm1.csv"
+    code, _, _ = _imil(monkeypatch, capsys, "motion", "export", "elcentro", "--time-scale", "2",
+                       "--pga", "0.8", "--dt", "0.0005", "-o", str(target))
+    assert code == 0
+    back = read_motion(target)
+    expected = (builtin_motion("elcentro").time_scaled(2).scaled_to_pga(0.8).resampled(0.0005)
+                .baseline_corrected())
+    assert back.npts == expected.npts and back.time_step == pytest.approx(0.0005, rel=1e-9)
+    np.testing.assert_allclose(back.accel, expected.accel, rtol=1e-9, atol=1e-9 * expected.pga)
+    assert abs(back.displacement()[-1]) < 1e-6 * back.pgd
+    code, _, err = _imil(monkeypatch, capsys, "motion", "export", "elcentro", "--dt", "0.00123456789",
+                         "-o", str(tmp_path / "x.csv"))
+    assert code == 2 and "time_step" in err and not (tmp_path / "x.csv").exists()
