@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from impedance_mil.errors import ConfigError, DataFileError
-from impedance_mil.signals import BUILTIN_MOTIONS, builtin_motion, read_at2, read_columns, read_motion
+from impedance_mil.signals import (BUILTIN_MOTIONS, GroundMotion, builtin_motion, read_at2, read_columns,
+                                   read_motion, write_columns)
 from impedance_mil.units import G0
 
 AT2_NGAW2 = """PEER NGA STRONG MOTION DATABASE RECORD
@@ -63,6 +66,7 @@ def test_at2_crlf_and_d_exponents(tmp_path):
         ("   \n\n", "empty file"),
         ("a\nb\n", "truncated"),
         (AT2_NGAW2.replace("NPTS=      7", "NPTS=      8"), "NPTS = 8 but the file holds 7"),
+        (AT2_NGAW2.replace("NPTS=      7", "NPTS=      6"), "NPTS = 6 but the file holds 7"),
         (AT2_NGAW2.replace("DT=   .0050", "DT=   -.0050"), "DT must be positive"),
         (AT2_NGAW2.replace("DT=   .0050", "DT=   .0000"), "DT must be positive"),
         (AT2_NGAW2.replace("-.2000000E-01", "abc"), "line 5: non-numeric token 'abc'"),
@@ -159,3 +163,30 @@ def test_builtin_unknown_name():
     with pytest.raises(ConfigError, match="elcentro"):
         builtin_motion("kobe")
     assert set(BUILTIN_MOTIONS) >= {"elcentro"}
+
+
+_samples = st.lists(st.floats(-2.0, 2.0, allow_nan=False, allow_subnormal=False), min_size=2, max_size=60)
+
+
+@settings(max_examples=30, deadline=None)
+@given(samples=_samples, dt=st.sampled_from([0.0005, 0.005, 0.01, 0.02, 1 / 3]))
+def test_write_read_round_trip(tmp_path_factory, samples, dt):
+    # write_columns prints 10 significant digits: values and dt come back to 1e-9 relative.
+    motion = GroundMotion(dt, np.array(samples) * G0, "rt", "hypothesis")
+    path = tmp_path_factory.mktemp("rt") / "m.csv"
+    back = read_motion(write_columns(motion, path))
+    assert back.npts == motion.npts and back.time_step == pytest.approx(dt, rel=1e-9)
+    np.testing.assert_allclose(back.accel, motion.accel, rtol=1e-9, atol=1e-12)
+
+
+@settings(max_examples=30, deadline=None)
+@given(samples=_samples, per_line=st.integers(1, 8))
+def test_at2_any_layout_round_trip(tmp_path_factory, samples, per_line):
+    # The AT2 reader ignores line layout: any number of samples per line gives the same record.
+    values = np.array(samples)
+    lines = [" ".join(f"{v:.7E}" for v in values[i:i + per_line]) for i in range(0, values.size, per_line)]
+    text = f"h\nrec\nACCELERATION IN G\nNPTS= {values.size}, DT= .0100 SEC\n" + "\n".join(lines) + "\n"
+    path = tmp_path_factory.mktemp("at2") / "r.AT2"
+    path.write_text(text)
+    np.testing.assert_allclose(read_at2(path).accel, np.array([float(f"{v:.7E}") for v in values]) * G0,
+                               rtol=1e-15)
