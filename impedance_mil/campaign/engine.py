@@ -146,14 +146,14 @@ def execute_run(kind_name: str, config: dict[str, Any], root: str, run_id: str) 
     return outcome
 
 
-def _record(spec: CampaignSpec, run: RunSpec, future: Any) -> RunRecord:
+def _record(run: RunSpec, future: Any) -> RunRecord:
     try:
         outcome = future.result()
     except cf.CancelledError:
         raise
     except Exception as exc:  # the worker itself died (e.g. BrokenProcessPool) or Dask lost it
         outcome = {"status": "failed", "error": "worker lost: " + _one_line(exc)}
-    return RunRecord(run_id=run.run_id, kind=spec.kind, studies=run.studies,
+    return RunRecord(run_id=run.run_id, kind=run.kind, studies=run.studies,
                      settings=dict(run.settings), **outcome)
 
 
@@ -162,8 +162,8 @@ def manifest(spec: CampaignSpec) -> dict[str, Any]:
     return {
         "name": spec.name, "kind": spec.kind, "title": spec.title, "section": spec.section,
         "source": spec.source, "reduced": spec.reduced, "parameters": list(spec.parameters),
-        "runs": [{"run_id": r.run_id, "studies": list(r.studies), "settings": r.settings,
-                  "config": r.config} for r in spec.runs],
+        "runs": [{"run_id": r.run_id, "kind": r.kind, "studies": list(r.studies),
+                  "settings": r.settings, "config": r.config} for r in spec.runs],
     }
 
 
@@ -204,10 +204,10 @@ def run_campaign(spec: CampaignSpec, out_dir: str | Path, executor: RunExecutor 
     executed: list[str] = []
     futures: dict[Any, RunSpec] = {}
     try:
-        futures = {pool.submit(execute_run, spec.kind, run.config, str(store.root), run.run_id): run
+        futures = {pool.submit(execute_run, run.kind, run.config, str(store.root), run.run_id): run
                    for run in todo}
         for future in pool.as_completed(futures):
-            record = _record(spec, futures.pop(future), future)
+            record = _record(futures.pop(future), future)
             store.write_record(record)
             executed.append(record.run_id)
             if on_progress is not None:
@@ -216,7 +216,7 @@ def run_campaign(spec: CampaignSpec, out_dir: str | Path, executor: RunExecutor 
         pool.shutdown(cancel=True)
         for future, run in futures.items():
             if future.done() and not future.cancelled():
-                store.write_record(_record(spec, run, future))
+                store.write_record(_record(run, future))
         write_summary(store, spec)
         raise
     finally:

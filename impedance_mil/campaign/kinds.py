@@ -15,6 +15,8 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from ..errors import ConfigError
+from .modelkinds import (DESIGN_DEFAULTS, DESIGN_PARAMS, TABLE_POLES_DEFAULTS, TABLE_POLES_PARAMS,
+                         run_design, run_table_poles)
 from .params import Param
 from .selftest import SELFTEST_DEFAULTS, SELFTEST_PARAMS, run_selftest
 
@@ -51,6 +53,10 @@ class Kind:
 KINDS: dict[str, Kind] = {
     "selftest": Kind("selftest", run_selftest, SELFTEST_PARAMS, SELFTEST_DEFAULTS,
                      "modes of an SD isolator (engine and cluster check; no virtual lab)"),
+    "table-poles": Kind("table-poles", run_table_poles, TABLE_POLES_PARAMS, TABLE_POLES_DEFAULTS,
+                        "closed-loop poles of the table model (Section 4.4 tuning)"),
+    "design": Kind("design", run_design, DESIGN_PARAMS, DESIGN_DEFAULTS,
+                   "MIL controller design and constraints I-III (Sections 6, 9.4)"),
 }
 
 

@@ -17,6 +17,7 @@ A campaign file is TOML::
 
     [[study]]                    # the campaign is the union of its studies
     name = "table-9.4"
+    kind = "mil"                 # optional: a study may use another kind than the campaign's
     set = { f_c = "80 Hz" }      # settings fixed for this study
     product = { vs = ["SD1", "SD2"], motion = ["GM1", "GM2", "GM3"] }   # Cartesian product
     zip = { m_vs_ratio = [1.25, 1.0], f_c = [80, 200] }                # lists varied together
@@ -52,7 +53,7 @@ BUILTIN_DIR = Path(__file__).resolve().parent.parent / "data" / "campaigns"
 
 _TOP_KEYS = {"campaign", "base", "study", "reduced"}
 _CAMPAIGN_KEYS = {"name", "kind", "title", "section", "base_config", "description"}
-_STUDY_KEYS = {"name", "set", "product", "zip", "cases", "reduced", "title"}
+_STUDY_KEYS = {"name", "kind", "set", "product", "zip", "cases", "reduced", "title"}
 
 
 @dataclass(frozen=True)
@@ -63,6 +64,8 @@ class RunSpec:
     ----------
     run_id : str
         Short sha256 prefix of the canonical JSON of ``{"kind", "config"}``.
+    kind : str
+        The campaign kind of the run (the study's, else the campaign's).
     studies : tuple of str
         The studies that asked for this run (one run may serve several).
     settings : dict
@@ -72,6 +75,7 @@ class RunSpec:
     """
 
     run_id: str
+    kind: str
     studies: tuple[str, ...]
     settings: dict[str, Any]
     config: dict[str, Any]
@@ -84,7 +88,7 @@ class CampaignSpec:
     Attributes
     ----------
     name, kind, title, section : str
-        From the ``[campaign]`` table.
+        From the ``[campaign]`` table (``kind`` is the default kind of its studies).
     source : str
         The file it was read from.
     reduced : bool
@@ -165,28 +169,40 @@ def load_campaign(ref: str | Path, *, reduced: bool = False, max_runs: int = DEF
     _check_keys(head, _CAMPAIGN_KEYS, "campaign.")
     kind = get_kind(_text(head, "kind", "campaign."))
     name = _text(head, "name", "campaign.", default=path.stem)
-    defaults = deep_merge(kind.defaults, _base_config(head, path))
+    base_file = _base_config(head, path)
     reduced_table = _table(raw, "reduced", "")
     _check_keys(reduced_table, {"base"}, "reduced.")
-    base = convert_settings(kind.params, _table(raw, "base", ""), where="base.")
+    base_raw = {**_table(raw, "base", "")}
     if reduced:
-        base.update(convert_settings(kind.params, _table(reduced_table, "base", "reduced."),
-                                     where="reduced.base."))
-    base.update(convert_settings(kind.params, dict(overrides or {}), where="--set "))
+        base_raw.update(_table(reduced_table, "base", "reduced."))
+    base_raw.update(overrides or {})
     studies = _studies(raw, reduced)
     total = sum(_count(study, where) for where, study in studies)
     if total > max_runs:
         raise ConfigError("--max-runs", f"at most {max_runs} runs", f"{total} runs in {path}")
+    kinds = [get_kind(_text(study, "kind", where + ".", default=kind.name)) for where, study in studies]
+    known = set().union(*(k.params for k in kinds))
+    for key in base_raw:
+        if key not in known:
+            raise ConfigError(f"base.{key}", "a known parameter (" + ", ".join(sorted(known)) + ")")
     runs: dict[str, RunSpec] = {}
-    columns: dict[str, None] = dict.fromkeys(base)
-    for where, study in studies:
-        for settings in _expand(kind, study, where):
-            merged = {**base, **settings}
+    columns: dict[str, None] = {}
+    for (where, study), study_kind in zip(studies, kinds):
+        base = _base_settings(study_kind, base_raw)
+        defaults = deep_merge(study_kind.defaults, base_file)
+        columns.update(dict.fromkeys(base))
+        for settings in _expand(study_kind, study, where):
             columns.update(dict.fromkeys(settings))
-            _add_run(runs, kind, defaults, merged, str(study.get("name", where)))
+            _add_run(runs, study_kind, defaults, {**base, **settings}, str(study.get("name", where)))
     return CampaignSpec(name=name, kind=kind.name, title=str(head.get("title", name)),
                         section=str(head.get("section", "")), source=str(path), reduced=reduced,
                         runs=tuple(runs.values()), parameters=tuple(columns))
+
+
+def _base_settings(kind: Kind, base_raw: Mapping[str, Any]) -> dict[str, Any]:
+    """The base settings a study's kind accepts (other kinds of the campaign may use the rest)."""
+    known = {k: v for k, v in base_raw.items() if k in kind.params}
+    return convert_settings(kind.params, known, where="base.")
 
 
 def _add_run(runs: dict[str, RunSpec], kind: Kind, defaults: Mapping[str, Any],
@@ -198,9 +214,9 @@ def _add_run(runs: dict[str, RunSpec], kind: Kind, defaults: Mapping[str, Any],
     if run_id in runs:
         old = runs[run_id]
         if study not in old.studies:
-            runs[run_id] = RunSpec(run_id, old.studies + (study,), old.settings, old.config)
+            runs[run_id] = RunSpec(run_id, kind.name, old.studies + (study,), old.settings, old.config)
         return
-    runs[run_id] = RunSpec(run_id, (study,), settings, config)
+    runs[run_id] = RunSpec(run_id, kind.name, (study,), settings, config)
 
 
 def _studies(raw: Mapping[str, Any], reduced: bool) -> list[tuple[str, dict[str, Any]]]:

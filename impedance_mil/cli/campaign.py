@@ -21,6 +21,7 @@ from ..campaign import (DEFAULT_MAX_RUNS, KINDS, ProgressEvent, builtin_campaign
                         load_campaign, make_executor, run_campaign)
 from ..campaign.executors import DEFAULT_CONNECT_TIMEOUT_S
 from ..config import parse_overrides
+from ..report.reproduction import write_reproduction_report
 from .common import console, print_json
 
 app = typer.Typer(help="Parameter sweeps (campaigns) and the report-reproduction suite.",
@@ -103,7 +104,8 @@ def plan(
     spec = _load(campaign, reduced, max_runs, overrides)
     if as_json:
         print_json({"campaign": spec.name, "kind": spec.kind, "runs": [
-            {"run_id": r.run_id, "studies": list(r.studies), "settings": r.settings} for r in spec.runs]})
+            {"run_id": r.run_id, "kind": r.kind, "studies": list(r.studies), "settings": r.settings}
+            for r in spec.runs]})
         return
     table = Table(title=f"{spec.name} ({spec.kind}): {len(spec.runs)} runs")
     for column in ("run_id", "study", *spec.parameters):
@@ -136,3 +138,14 @@ def params(kind: str = typer.Argument(..., help="Campaign kind.")) -> None:
     for name, spec in get_kind(kind).params.items():
         console.print(f"{name:14s} {spec.describe():40s} {spec.help}")
 
+
+
+@app.command("report")
+def report(
+    folders: List[Path] = typer.Argument(..., help="Campaign folders (e.g. of report-sec4, -sec8, -sec9)."),
+    out: Path = typer.Option(Path("reproduction.html"), "-o", "--out", help="HTML file to write."),
+) -> None:
+    """Write the self-contained reproduction report (the report's claims against the campaigns)."""
+    result = write_reproduction_report(folders, out)
+    console.print(f"{out}: {len(result.outcomes)} claims: {result.agree} agree, "
+                  f"{result.disagree} disagree, {result.not_run} not run")

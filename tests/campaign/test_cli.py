@@ -77,3 +77,12 @@ def test_plan_and_list(imil, sd_campaign):
     assert len(plan["runs"]) == 3 and plan["kind"] == "selftest"
     status, out, _ = imil("list")
     assert status == 0 and "selftest" in out
+
+
+def test_report_command_writes_the_page(imil, sd_campaign, tmp_path):
+    imil("run", sd_campaign, "-o", tmp_path / "o", "--workers", 0, "--json")
+    status, out, err = imil("report", tmp_path / "o", "-o", tmp_path / "r.html")
+    assert status == 0, err
+    assert "not run" in out and (tmp_path / "r.html").read_text().startswith("<!DOCTYPE html>")
+    status, _, err = imil("report", tmp_path / "missing", "-o", tmp_path / "r2.html")
+    assert status == 2 and err.strip().count("\n") == 0 and "not a campaign folder" in err

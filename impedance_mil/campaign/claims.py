@@ -1,0 +1,404 @@
+"""The report's claims as data, each with an evaluation over campaign summary tables.
+
+A :class:`Claim` quotes a statement of the report (with its section), names
+the study of the built-in campaigns that tests it, and evaluates it on the
+summary rows of that study: :func:`evaluate_claims` returns one
+:class:`ClaimOutcome` per claim, with a verdict (``agree``, ``disagree`` or
+``not run``), the toolkit's numbers in one sentence, and the curves of a
+figure (plain numbers; :mod:`impedance_mil.report.reproduction` draws them).
+
+The metrics compared are defined in :mod:`impedance_mil.campaign.runmetrics`
+(spectral agreement of table and target) and in the kinds'
+run functions (poles, constraints I-III).  Thresholds that turn the report's
+visual judgements into numbers are named constants below.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Sequence
+
+from .runmetrics import AGREEMENT_TOLERANCE
+from .summary import SummaryTable
+
+AGREE, DISAGREE, NOT_RUN = "agree", "disagree", "not run"
+
+#: Relative difference of oil-column damping between the first-order and the exact
+#: sampled-data delay model below which the first-order model counts as accurate.
+DELAY_MODEL_TOLERANCE = 0.15
+
+
+@dataclass(frozen=True)
+class Curve:
+    """One line of a claim's figure.
+
+    Attributes
+    ----------
+    label : str
+        Legend entry.
+    x, y : tuple of float
+        Points.
+    role : str
+        ``"table"`` (the toolkit, solid blue), ``"target"`` (the report's value, dashed red)
+        or ``"other"``.
+    """
+
+    label: str
+    x: tuple[float, ...]
+    y: tuple[float, ...]
+    role: str = "table"
+
+
+@dataclass(frozen=True)
+class ClaimOutcome:
+    """The verdict on one claim.
+
+    Attributes
+    ----------
+    claim : Claim
+    verdict : str
+        ``"agree"``, ``"disagree"`` or ``"not run"``.
+    measured : str
+        The toolkit's numbers, one sentence.
+    curves : tuple of Curve
+        Data of the figure (empty when not run).
+    xlabel, ylabel : str
+        Axis labels with units.
+    xlog : bool
+        Logarithmic x axis.
+    """
+
+    claim: "Claim"
+    verdict: str
+    measured: str
+    curves: tuple[Curve, ...] = ()
+    xlabel: str = ""
+    ylabel: str = ""
+    xlog: bool = False
+
+
+@dataclass(frozen=True)
+class Claim:
+    """A statement of the report and how the toolkit tests it.
+
+    Attributes
+    ----------
+    id : str
+        Short identifier (e.g. ``"sec9-band"``).
+    section : str
+        Report section (e.g. ``"9.3"``).
+    statement : str
+        The report's statement, quoted or closely paraphrased.
+    campaign : str
+        Built-in campaign that holds the study (``imil campaign run NAME``).
+    study : str
+        Study of that campaign whose rows the claim reads.
+    test : str
+        How the toolkit decides, one sentence.
+    evaluate : callable
+        ``evaluate(rows: SummaryTable) -> (verdict, measured, curves, xlabel, ylabel, xlog)``
+        over the rows of ``study`` that finished.
+    """
+
+    id: str
+    section: str
+    statement: str
+    campaign: str
+    study: str
+    test: str
+    evaluate: Callable[[SummaryTable], tuple] = field(repr=False)
+
+
+def _points(rows: SummaryTable, x: str, y: str, **where: Any) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Sorted (x, y) pairs of the rows matching ``where`` with numeric x and y."""
+    pairs = []
+    for row in rows.where(**where).rows:
+        vx, vy = row.get(x), row.get(y)
+        if isinstance(vx, (int, float)) and isinstance(vy, (int, float)):
+            pairs.append((float(vx), float(vy)))
+    pairs.sort()
+    return tuple(p[0] for p in pairs), tuple(p[1] for p in pairs)
+
+
+def _value(rows: SummaryTable, metric: str, **where: Any) -> float | None:
+    values = rows.where(**where).values(metric)
+    return values[0] if values else None
+
+
+# ------------------------------------------------------------------ Section 4
+def _kp_damping(rows: SummaryTable) -> tuple:
+    x, y = _points(rows, "K_p", "oil_damping_ratio", delay="first-order")
+    zero, best = _value(rows, "oil_damping_ratio", K_p=0.0), _value(rows, "oil_damping_ratio", K_p=0.001)
+    if zero is None or best is None:
+        return NOT_RUN, "the K_p = 0 and K_p = 0.001 V/psi runs are missing", (), "", "", False
+    ok = best > 2.0 * zero
+    text = (f"oil-column damping ratio {zero:.3f} at K_p = 0 and {best:.3f} at K_p = 0.001 V/psi "
+            f"({best / zero:.1f} times)")
+    return (AGREE if ok else DISAGREE), text, (Curve("table model (first-order delay)", x, y),), \
+        "K_p [V/psi]", "least oil-column damping ratio [-]", False
+
+
+def _delay_model(rows: SummaryTable) -> tuple:
+    diffs, text = [], []
+    for tau in (250e-6, 500e-6, 1000e-6):
+        fo = _value(rows, "oil_damping_ratio", loop_time=tau, delay="first-order")
+        ex = _value(rows, "oil_damping_ratio", loop_time=tau, delay="sampled")
+        if fo is None or ex is None:
+            return NOT_RUN, f"runs at tau_s = {tau * 1e6:g} us are missing", (), "", "", False
+        diffs.append((tau * 1e6, abs(fo - ex) / ex))
+        text.append(f"{tau * 1e6:g} us: {100 * diffs[-1][1]:.1f} %")
+    ok = diffs[0][1] <= DELAY_MODEL_TOLERANCE and diffs[1][1] <= DELAY_MODEL_TOLERANCE \
+        and diffs[2][1] > diffs[1][1]
+    curve = Curve("first-order vs exact sampled-data model", tuple(d[0] for d in diffs),
+                  tuple(d[1] for d in diffs))
+    limit = Curve(f"tolerance {DELAY_MODEL_TOLERANCE:g}", (250.0, 1000.0), (DELAY_MODEL_TOLERANCE,) * 2, "target")
+    return (AGREE if ok else DISAGREE), "relative error of the oil-column damping: " + ", ".join(text), \
+        (curve, limit), "loop time tau_s [us]", "relative error of damping [-]", False
+
+
+def _kp_model_fidelity(rows: SummaryTable) -> tuple:
+    x, y = _points(rows, "K_p", "model_error_db")
+    if len(x) < 3:
+        return NOT_RUN, "fewer than three K_p values identified", (), "", "", False
+    best = x[min(range(len(y)), key=y.__getitem__)]
+    ok = 0.0008 <= best <= 0.0012 and y[0] > min(y)
+    text = "rms log-magnitude error " + ", ".join(f"{e:.2f} dB at {k:g}" for k, e in zip(x, y)) + \
+        f"; smallest at K_p = {best:g} V/psi"
+    return (AGREE if ok else DISAGREE), text, (Curve("identified FRF vs linear model", x, y),), \
+        "K_p [V/psi]", "rms model error 0.5-50 Hz [dB]", False
+
+
+# ------------------------------------------------------------------ Section 8
+def _agreement_by(rows: SummaryTable, key: str, **where: Any) -> dict[float, float]:
+    """Smallest spectral agreement frequency over motions, per value of ``key``."""
+    out: dict[float, float] = {}
+    for row in rows.where(**where).rows:
+        value, agreement = row.get(key), row.get("spectral_agreement_hz")
+        if isinstance(agreement, (int, float)) and isinstance(value, (int, float)):
+            out[float(value)] = min(out.get(float(value), float("inf")), float(agreement))
+    return dict(sorted(out.items()))
+
+
+def _tracking_depths(rows: SummaryTable) -> tuple:
+    by_depth = _agreement_by(rows, "water_depth")
+    if not by_depth:
+        return NOT_RUN, "no tracking runs finished", (), "", "", False
+    upto2 = [v for d, v in by_depth.items() if d <= 30.0]
+    ok = bool(upto2) and min(upto2) >= 20.0
+    text = "spectra agree (within {:.0%}) up to ".format(AGREEMENT_TOLERANCE) + ", ".join(
+        f"{v:.1f} Hz at {d:g} in" for d, v in by_depth.items())
+    curves = (Curve("toolkit: worst of the motions", tuple(by_depth), tuple(by_depth.values())),
+              Curve("report: 20 Hz up to 30 in (mass ratio 2)", (0.0, 30.0), (20.0, 20.0), "target"))
+    return (AGREE if ok else DISAGREE), text, curves, "water depth [in]", "agreement up to [Hz]", False
+
+
+def _error_by(rows: SummaryTable, key: str, metric: str, **where: Any) -> dict[Any, float]:
+    """Mean of a metric over motions, per value of ``key``."""
+    sums: dict[Any, list[float]] = {}
+    for row in rows.where(**where).rows:
+        value = row.get(metric)
+        if isinstance(value, (int, float)) and row.get("status") == "ok":
+            sums.setdefault(row.get(key), []).append(float(value))
+    return {k: sum(v) / len(v) for k, v in sums.items()}
+
+
+def _feedback_sources(rows: SummaryTable) -> tuple:
+    err = _error_by(rows, "feedback", "spectral_error_20hz", water_depth=42.0)
+    if "load_cells" not in err or "none" not in err:
+        return NOT_RUN, "the 42 in runs with load cells and without u_w are missing", (), "", "", False
+    ok = err["none"] > err["load_cells"]
+    text = "largest spectral error 0.25-20 Hz at 42 in: " + ", ".join(f"{k} {v:.2f}" for k, v in err.items())
+    names = tuple(err)
+    curve = Curve("toolkit (mean of motions)", tuple(range(len(names))), tuple(err[n] for n in names))
+    return (AGREE if ok else DISAGREE), text + " (sources: " + ", ".join(names) + ")", (curve,), \
+        "feedback source (" + ", ".join(f"{i}: {n}" for i, n in enumerate(names)) + ")", \
+        "spectral error [-]", False
+
+
+def _tracking_kp(rows: SummaryTable) -> tuple:
+    err = _error_by(rows, "K_p", "spectral_error_20hz")
+    if 0.0002 not in err or 0.001 not in err:
+        return NOT_RUN, "the K_p = 0.0002 and 0.001 V/psi runs are missing", (), "", "", False
+    ok = err[0.0002] > err[0.001]
+    x = tuple(sorted(err))
+    text = "largest spectral error 0.25-20 Hz: " + ", ".join(f"{err[k]:.2f} at K_p = {k:g}" for k in x)
+    return (AGREE if ok else DISAGREE), text, (Curve("toolkit (mean of motions)", x, tuple(err[k] for k in x)),), \
+        "K_p [V/psi]", "spectral error [-]", False
+
+
+def _tracking_fc(rows: SummaryTable) -> tuple:
+    err = _error_by(rows, "f_c", "spectral_error_20hz", water_depth=42.0)
+    if 40.0 not in err or 80.0 not in err:
+        return NOT_RUN, "the 42 in runs at f_c = 40 and 80 Hz are missing", (), "", "", False
+    ok = err[40.0] > err[80.0]
+    x = tuple(sorted(err))
+    text = "largest spectral error 0.25-20 Hz at 42 in: " + ", ".join(f"{err[k]:.2f} at {k:g} Hz" for k in x)
+    return (AGREE if ok else DISAGREE), text, (Curve("toolkit", x, tuple(err[k] for k in x)),), \
+        "f_c [Hz]", "spectral error [-]", False
+
+
+# ------------------------------------------------------------------ Section 9
+def _mil_band(rows: SummaryTable) -> tuple:
+    ok_rows = rows.where(status="ok")
+    agreements = ok_rows.values("spectral_agreement_hz")
+    if not agreements:
+        return NOT_RUN, "no MIL run of Table 9.4 finished", (), "", "", False
+    n_good = sum(a >= 15.0 for a in agreements)
+    failed = len(rows) - len(ok_rows)
+    ok = failed == 0 and n_good >= 0.8 * len(agreements)
+    text = (f"{n_good} of {len(agreements)} cases agree (within {AGREEMENT_TOLERANCE:.0%}) from 0.25 Hz to "
+            f"at least 15 Hz; worst {min(agreements):.1f} Hz; {failed} runs aborted or failed")
+    x = tuple(float(i) for i in range(len(agreements)))
+    curves = (Curve("toolkit, per case", x, tuple(agreements)),
+              Curve("report: 15 Hz", (0.0, max(x[-1], 1.0)), (15.0, 15.0), "target"))
+    return (AGREE if ok else DISAGREE), text, curves, "case (Table 9.4 order)", "agreement up to [Hz]", False
+
+
+def _fc_table_9_5(rows: SummaryTable) -> tuple:
+    expected = {1000.0: (True, False, True), 250.0: (True, True, True), 100.0: (True, True, True),
+                50.0: (False, True, False)}
+    got, text = {}, []
+    for fc, verdicts in expected.items():
+        row = rows.where(f_c=fc).rows
+        if not row:
+            return NOT_RUN, f"the design at f_c = {fc:g} Hz is missing", (), "", "", False
+        got[fc] = tuple(bool(row[0].get(k)) for k in ("I", "II", "III"))
+        text.append(f"{fc:g} Hz: " + "/".join("S" if v else "N" for v in got[fc]))
+    ok = got == expected
+    x, y = _points(rows, "f_c", "performance_error")
+    _, margin = _points(rows, "f_c", "passivity_tolerant_margin_deg")
+    curves = (Curve("constraint I: impedance error", x, y),
+              Curve("constraint III: passivity margin / 10 deg", x, tuple(m / 10.0 for m in margin), "other"))
+    return (AGREE if ok else DISAGREE), "constraints I/II/III (S = satisfied): " + "; ".join(text), \
+        curves, "f_c [Hz]", "error [-], margin [10 deg]", True
+
+
+def _instability_threshold(rows: SummaryTable) -> tuple:
+    ratios = {}
+    for row in rows.where(vs="SD2").rows:
+        if row.get("status") in ("ok", "aborted") and isinstance(row.get("m_vs_ratio"), float):
+            unstable = row.get("status") == "aborted" or (row.get("hf_ratio") or 0.0) > 1.0
+            ratios[row["m_vs_ratio"]] = unstable
+    if not ratios:
+        return NOT_RUN, "no SD2 basemat-mass run finished", (), "", "", False
+    stable = [r for r, u in ratios.items() if not u]
+    unstable = [r for r, u in ratios.items() if u]
+    threshold = max(unstable) if unstable else None
+    ok = threshold is not None and 0.6 <= threshold <= 0.8 and all(r > threshold for r in stable)
+    x = tuple(sorted(ratios))
+    text = ("SD2, f_c = 80 Hz: unstable at m_vs/m_st = " + (", ".join(f"{r:g}" for r in sorted(unstable)) or "none")
+            + "; stable at " + (", ".join(f"{r:g}" for r in sorted(stable)) or "none"))
+    curves = (Curve("toolkit: 1 = unstable", x, tuple(float(ratios[r]) for r in x)),
+              Curve("report: unstable at 0.7", (0.7, 0.7), (0.0, 1.0), "target"))
+    return (AGREE if ok else DISAGREE), text, curves, "m_vs / m_st [-]", "unstable [0/1]", False
+
+
+def _fc_recovers(rows: SummaryTable) -> tuple:
+    x, y = _points(rows, "f_c", "hf_ratio")
+    if len(x) < 2 or x[0] > 80.0 or x[-1] < 200.0:
+        return NOT_RUN, "the runs at f_c = 80 and 200 Hz are missing", (), "", "", False
+    aborted = {r.get("f_c") for r in rows.rows if r.get("status") == "aborted"}
+    ok = (80.0 in aborted or y[0] > y[-1]) and 200.0 not in aborted
+    text = "high-frequency rms ratio " + ", ".join(f"{v:.3f} at {f:g} Hz" for f, v in zip(x, y))
+    if aborted:
+        text += "; aborted at f_c = " + ", ".join(f"{f:g}" for f in sorted(aborted)) + " Hz"
+    return (AGREE if ok else DISAGREE), text, (Curve("toolkit", x, y),), "f_c [Hz]", \
+        "rms above 15 Hz / rms target [-]", False
+
+
+#: The claims of the report checked by the reproduction suite, in report order.
+CLAIMS: tuple[Claim, ...] = (
+    Claim("sec4-dp-damping", "4.4.3, Contribution #3",
+          "Delta-P feedback with a sufficiently large gain adds damping to the oil-column resonance.",
+          "report-sec4", "kp-poles",
+          "least-damped pole pair of the table model: damping at K_p = 0.001 V/psi more than twice that at K_p = 0.",
+          _kp_damping),
+    Claim("sec4-delay-model", "4.5.3.3",
+          "For loop times up to 500 us the first-order approximation of the sampling delay is accurate; "
+          "for 1000 us it becomes unreliable.",
+          "report-sec4", "delay-model",
+          f"oil-column damping of the first-order model within {DELAY_MODEL_TOLERANCE:.0%} of the exact "
+          "sampled-data model at 250 and 500 us, and further off at 1000 us.", _delay_model),
+    Claim("sec4-kp-fidelity", "4.5.4, Figure 4.16",
+          "K_p = 0.001 V/psi gives the most faithful linear model: poor at 0.0002, better at 0.0006, "
+          "best at 0.001, deteriorating at 0.0014 V/psi.",
+          "report-sec4", "kp-frf",
+          "multisine FRF of the virtual table (with the 36 in vessel) against the linear model: smallest rms "
+          "log-magnitude error for K_p in 0.0008-0.0012 V/psi.", _kp_model_fidelity),
+    Claim("sec8-tracking-20hz", "8.3.1, Contribution #7",
+          "The table tracks the input accurately up to 20 Hz for mass ratios up to 2 (water depth up to "
+          "30 in), with slightly reduced accuracy at 2.5.",
+          "report-sec8", "depths",
+          f"5%-damped spectra of table and input agree within {AGREEMENT_TOLERANCE:.0%} from 0.25 Hz to at "
+          "least 20 Hz for every motion at 0, 18 and 30 in.", _tracking_depths),
+    Claim("sec8-feedback", "8.3.2",
+          "At a mass ratio of 2.5 the compensation u_w is essential: without it tracking is poor.",
+          "report-sec8", "feedback",
+          "at 42 in, the spectral error without u_w exceeds that with load-cell feedback.", _feedback_sources),
+    Claim("sec8-kp", "8.3.3",
+          "K_p = 0.0002 V/psi tracks poorly above 5 Hz; a sufficiently large K_p (0.001 V/psi) tracks well.",
+          "report-sec8", "kp",
+          "spectral error 0.25-20 Hz at K_p = 0.0002 exceeds that at 0.001 V/psi.", _tracking_kp),
+    Claim("sec8-fc", "8.3.4",
+          "At a mass ratio of 2.5, f_c = 40 Hz tracks poorly and tracking improves at 80 Hz.",
+          "report-sec8", "fc",
+          "at 42 in, the spectral error at f_c = 40 Hz exceeds that at 80 Hz.", _tracking_fc),
+    Claim("sec9-band", "9.3, Contribution #8",
+          "MIL is accurate from 0.25 to 15 Hz for the 27 cases of Table 9.4, with reduced accuracy above.",
+          "report-sec9", "table-9.4",
+          f"table and VS-target spectra agree within {AGREEMENT_TOLERANCE:.0%} from 0.25 Hz to at least 15 Hz "
+          "in at least 80 % of the cases, and no run aborts.", _mil_band),
+    Claim("sec9-table-9.5", "9.4.3, Table 9.5",
+          "For SD2 (m_vs = 1.25 m_st): f_c = 1000 Hz violates constraint II; 250 and 100 Hz satisfy all; "
+          "50 Hz violates constraints I and III.",
+          "report-sec9", "design-fc",
+          "constraints I, II, III of the designed controller at each f_c equal Table 9.5.", _fc_table_9_5),
+    Claim("sec9-basemat-mass", "9.4.4, Figure 9.34",
+          "For SD2 at f_c = 80 Hz the MIL system becomes unstable when the basemat mass is reduced to "
+          "0.7 m_st (0.8 m_st for LR2, 0.9 m_st for FP2).",
+          "report-sec9", "basemat-mass",
+          "SD2 MIL runs: the largest unstable m_vs/m_st (aborted, or rms above 15 Hz larger than the target's) "
+          "lies in 0.6-0.8 and every larger ratio is stable.", _instability_threshold),
+    Claim("sec9-fc-recovery", "9.4.5, Figure 9.35",
+          "At m_vs = 0.7 m_st, raising f_c from 80 Hz to 200 Hz reduces the high-frequency oscillations "
+          "and restores MIL performance.",
+          "report-sec9", "fc-recovery",
+          "SD2 at 0.7 m_st: the run at 200 Hz does not abort and its high-frequency content is below the "
+          "80 Hz run's (or the 80 Hz run aborts).", _fc_recovers),
+)
+
+
+def evaluate_claims(tables: Sequence[SummaryTable], claims: Sequence[Claim] = CLAIMS) -> list[ClaimOutcome]:
+    """Evaluate every claim on the rows of its study found in the given summaries.
+
+    Parameters
+    ----------
+    tables : sequence of SummaryTable
+        Summaries of campaign folders (any campaigns; rows are found by study name).
+    claims : sequence of Claim
+        The claims (default: :data:`CLAIMS`).
+    """
+    outcomes = []
+    for claim in claims:
+        rows = tuple(row for table in tables for row in table.where(study=claim.study).rows)
+        finished = SummaryTable(_columns(tables), tuple(r for r in rows if r.get("status") in ("ok", "aborted")))
+        if not len(finished):
+            why = "no finished run of study " + repr(claim.study) + (
+                f" ({len(rows)} runs failed or pending)" if rows else f"; run `imil campaign run {claim.campaign}`")
+            outcomes.append(ClaimOutcome(claim, NOT_RUN, why))
+            continue
+        verdict, measured, curves, xlabel, ylabel, xlog = claim.evaluate(finished)
+        outcomes.append(ClaimOutcome(claim, verdict, measured, tuple(curves), xlabel, ylabel, xlog))
+    return outcomes
+
+
+def _columns(tables: Sequence[SummaryTable]) -> tuple[str, ...]:
+    seen: dict[str, None] = {}
+    for table in tables:
+        seen.update(dict.fromkeys(table.columns))
+    return tuple(seen)
+
+
+def verdict_counts(outcomes: Sequence[ClaimOutcome]) -> Mapping[str, int]:
+    """Number of claims per verdict."""
+    return {v: sum(o.verdict == v for o in outcomes) for v in (AGREE, DISAGREE, NOT_RUN)}

@@ -1,0 +1,162 @@
+"""The reproduction report: each claim of the report against the toolkit's campaigns.
+
+:func:`write_reproduction_report` reads the summaries of one or more campaign
+folders (e.g. of ``report-sec4``, ``report-sec8``, ``report-sec9``),
+evaluates :data:`impedance_mil.campaign.claims.CLAIMS` on them and writes a
+self-contained HTML page: for each claim, the report's statement with its
+section, the toolkit's figure and numbers, and the verdict (agree, disagree,
+not run).  The claims are data; this module only draws them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+from matplotlib.figure import Figure
+
+from .. import __version__
+from ..campaign.claims import AGREE, CLAIMS, DISAGREE, NOT_RUN, Claim, ClaimOutcome, evaluate_claims
+from ..campaign.summary import NOT_RUN as RUN_NOT_RUN, SummaryTable, load_summary
+from ..campaign.store import CampaignStore
+from .html import STYLES, escape, figure_png, html_page, new_figure, write_html
+
+
+@dataclass(frozen=True)
+class ReproductionResult:
+    """What the reproduction report found.
+
+    Attributes
+    ----------
+    path : Path
+        The HTML file written.
+    outcomes : tuple of ClaimOutcome
+        One per claim, in report order.
+    """
+
+    path: Path
+    outcomes: tuple[ClaimOutcome, ...]
+
+    def _count(self, verdict: str) -> int:
+        return sum(o.verdict == verdict for o in self.outcomes)
+
+    @property
+    def agree(self) -> int:
+        """Claims the toolkit agrees with."""
+        return self._count(AGREE)
+
+    @property
+    def disagree(self) -> int:
+        """Claims the toolkit disagrees with."""
+        return self._count(DISAGREE)
+
+    @property
+    def not_run(self) -> int:
+        """Claims without data."""
+        return self._count(NOT_RUN)
+
+
+def claim_figure(outcome: ClaimOutcome) -> Figure:
+    """The figure of one claim: the toolkit's curves (blue) and the report's values (dashed red)."""
+    fig, (ax,) = new_figure(width=6.0, height=3.4)
+    for curve in outcome.curves:
+        style = dict(STYLES.get(curve.role, STYLES["other"]))
+        ax.plot(curve.x, curve.y, marker="o" if curve.role != "target" else None, markersize=4,
+                label=curve.label, **style)
+    if outcome.xlog:
+        ax.set_xscale("log")
+    ax.set_xlabel(outcome.xlabel)
+    ax.set_ylabel(outcome.ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small")
+    ax.set_title(f"{outcome.claim.id} (report Section {outcome.claim.section})", fontsize="medium")
+    return fig
+
+
+def _claim_section(outcome: ClaimOutcome) -> str:
+    claim: Claim = outcome.claim
+    css = outcome.verdict.replace(" ", "-")
+    parts = [
+        f'<div class="claim" id="{escape(claim.id)}">',
+        f"<h2>{escape(claim.id)} <span class=\"verdict {css}\">{escape(outcome.verdict)}</span></h2>",
+        f"<p><b>Report, Section {escape(claim.section)}:</b></p><blockquote>{escape(claim.statement)}</blockquote>",
+        f"<p><b>Test:</b> {escape(claim.test)} (campaign <code>{escape(claim.campaign)}</code>, "
+        f"study <code>{escape(claim.study)}</code>)</p>",
+        f"<p><b>Toolkit:</b> {escape(outcome.measured)}</p>",
+    ]
+    if outcome.curves:
+        parts.append(figure_png(claim_figure(outcome), f"figure for claim {claim.id}"))
+    parts.append("</div>")
+    return "".join(parts)
+
+
+def _overview(outcomes: Sequence[ClaimOutcome]) -> str:
+    rows = "".join(
+        f'<tr><td><a href="#{escape(o.claim.id)}">{escape(o.claim.id)}</a></td>'
+        f"<td>{escape(o.claim.section)}</td><td>{escape(o.claim.statement)}</td>"
+        f'<td><span class="verdict {o.verdict.replace(" ", "-")}">{escape(o.verdict)}</span></td></tr>'
+        for o in outcomes)
+    counts = {v: sum(o.verdict == v for o in outcomes) for v in (AGREE, DISAGREE, NOT_RUN)}
+    summary = ", ".join(f"{n} {v}" for v, n in counts.items())
+    return (f"<h2>Overview</h2><p>{len(outcomes)} claims: {escape(summary)}.</p>"
+            "<table><tr><th>claim</th><th>section</th><th>statement</th><th>verdict</th></tr>"
+            f"{rows}</table>")
+
+
+def _inventory(folders: Sequence[Path], tables: Sequence[SummaryTable]) -> str:
+    rows = []
+    for folder, table in zip(folders, tables):
+        name = folder.name
+        try:
+            manifest = CampaignStore(folder).read_json("campaign.json")
+            name = f"{manifest.get('name', name)}{' (reduced)' if manifest.get('reduced') else ''}"
+        except (OSError, ValueError):
+            pass
+        statuses = table.column("status")
+        counts = ", ".join(f"{s} {statuses.count(s)}" for s in ("ok", "aborted", "failed", RUN_NOT_RUN)
+                           if statuses.count(s))
+        rows.append(f"<tr><td>{escape(name)}</td><td>{escape(folder)}</td><td class=\"num\">{len(table)}</td>"
+                    f"<td>{escape(counts)}</td></tr>")
+    return ("<h2>Campaigns read</h2><table><tr><th>campaign</th><th>folder</th><th>runs</th>"
+            f"<th>status</th></tr>{''.join(rows)}</table>")
+
+
+def render_reproduction_html(folders: Sequence[str | Path],
+                             claims: Sequence[Claim] = CLAIMS) -> tuple[str, list[ClaimOutcome]]:
+    """The reproduction page for campaign folders, and the claim outcomes.
+
+    Raises
+    ------
+    DataFileError
+        A folder is not a campaign folder.
+    """
+    paths = [Path(f) for f in folders]
+    tables = [load_summary(p) for p in paths]
+    outcomes = evaluate_claims(tables, claims)
+    intro = ("<p>Each claim of the MCEER report <i>Impedance-Matching Control Design for Shake-Table "
+             "Testing and Model-in-the-Loop Simulations</i> is quoted with its section, then tested on "
+             "the virtual lab's campaigns. <b>agree</b>: the toolkit's numbers support the statement; "
+             "<b>disagree</b>: they do not; <b>not run</b>: the campaign holding the data was not run "
+             "(or its runs failed). Toolkit curves are solid blue, the report's values dashed red.</p>")
+    sections = [intro, _overview(outcomes)] + [_claim_section(o) for o in outcomes] + [_inventory(paths, tables)]
+    page = html_page("Reproduction of the report's claims", sections,
+                     subtitle=f"impedance-mil {__version__}")
+    return page, outcomes
+
+
+def write_reproduction_report(folders: Sequence[str | Path], out: str | Path,
+                              claims: Sequence[Claim] = CLAIMS) -> ReproductionResult:
+    """Write the reproduction page for campaign folders to ``out`` (atomically).
+
+    Parameters
+    ----------
+    folders : sequence of path
+        Campaign folders (written by ``imil campaign run``).
+    out : path
+        HTML file to write.
+    claims : sequence of Claim
+        The claims to check (default: all of :data:`~impedance_mil.campaign.claims.CLAIMS`).
+    """
+    page, outcomes = render_reproduction_html(folders, claims)
+    return ReproductionResult(write_html(out, page), tuple(outcomes))
