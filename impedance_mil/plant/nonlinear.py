@@ -62,13 +62,13 @@ N_PARAMS = 23
 
 
 # --------------------------------------------------------------------------- kernels
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def orifice(dp, p_lam):
     """Signed square-root law ``dp / (dp^2 + p_lam^2)^(1/4)`` [sqrt(psi)]."""
-    return dp / (dp * dp + p_lam * p_lam) ** 0.25
+    return dp / math.sqrt(math.sqrt(dp * dp + p_lam * p_lam))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def port_flows(pa, s, p1, p2):
     """Flow into chamber 1 and out of chamber 2 [in^3/s] for spool ``s`` [mA] (Eq 4-5)."""
     smax = pa[PA_SMAX]
@@ -84,7 +84,26 @@ def port_flows(pa, s, p1, p2):
     return q1, q2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def table_acceleration(pa, xt, w_state, w_feed):
+    """Table acceleration z [in/s^2] (Eq 4-7b with friction and end stops).
+
+    ``m_st z = A_p dP + w - F_friction + F_endstop`` with ``w = w_state + w_feed z``.
+    """
+    x = xt[IX_X]
+    v = xt[IX_V]
+    force = pa[PA_AREA] * (xt[IX_P1] - xt[IX_P2]) + w_state
+    # Rails and seals: smoothed Coulomb + viscous friction; end-of-stroke cushion.
+    force -= pa[PA_FC] * math.tanh(v / pa[PA_VSMOOTH]) + pa[PA_FV] * v
+    xm = pa[PA_MID]
+    if x > xm:
+        force -= pa[PA_KSTOP] * (x - xm) + pa[PA_CSTOP] * v
+    elif x < -xm:
+        force -= pa[PA_KSTOP] * (x + xm) + pa[PA_CSTOP] * v
+    return force / (pa[PA_MASS] - w_feed)
+
+
+@njit(cache=True, inline="always")
 def table_derivative(pa, xt, current, w_state, w_feed, out):
     """Time derivative of the table states; returns the table acceleration z [in/s^2].
 
@@ -104,21 +123,14 @@ def table_derivative(pa, xt, current, w_state, w_feed, out):
         Receives the derivative.
     """
     area = pa[PA_AREA]
+    xm = pa[PA_MID]
     x = xt[IX_X]
     v = xt[IX_V]
     p1 = xt[IX_P1]
     p2 = xt[IX_P2]
     s = xt[IX_S]
     sd = xt[IX_SD]
-    # Rails and seals: smoothed Coulomb + viscous friction; end-of-stroke cushion.
-    force = area * (p1 - p2) + w_state
-    force -= pa[PA_FC] * math.tanh(v / pa[PA_VSMOOTH]) + pa[PA_FV] * v
-    xm = pa[PA_MID]
-    if x > xm:
-        force -= pa[PA_KSTOP] * (x - xm) + pa[PA_CSTOP] * v
-    elif x < -xm:
-        force -= pa[PA_KSTOP] * (x + xm) + pa[PA_CSTOP] * v
-    z = force / (pa[PA_MASS] - w_feed)
+    z = table_acceleration(pa, xt, w_state, w_feed)
     # Chambers (Eq 4-8c,d) with stroke-dependent volumes.
     vdead = pa[PA_VDEAD]
     v1 = max(area * (xm + x) + vdead, 0.5 * vdead)

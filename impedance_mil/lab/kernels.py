@@ -1,0 +1,268 @@
+"""Compiled pieces of the virtual lab: sensing, plant stepping, safety, and the hot loop.
+
+One loop tick (loop time T, tick k at t_k = k T), as on the RMC75E (Section 7.3.4):
+
+1. **sense** (:func:`plant_sense`): the sensors of a
+   :class:`~impedance_mil.specimens.sensors.SensorSuite` read the plant at t_k
+   (Table 7.1 calibration, noise, 16-bit quantization, range): ``x``, ``dP``,
+   ``z`` and the load-cell force ``w_LC``; ``w_FE = m_st z - A_p dP`` from force
+   equilibrium (Section 8.3.2);
+2. **safety** (:func:`check_limits`): stroke, velocity, actuator force, valve
+   saturation, NaN and divergence;
+3. **controller**: open loop (``u`` given), acceleration tracking
+   (``z_vs = a_g``) or MIL (VS RK3 step then controller), using the runtime
+   kernels of :mod:`impedance_mil.implement`;
+4. **hydraulic loop** (:func:`impedance_mil.plant.nonlinear.valve_command`):
+   ``u_v(k) = K_e (u(k) - x_m(k-1)) - K_p dP_m(k-1)``, held over the loop (ZOH);
+5. **advance** (:func:`plant_advance`): the continuous plant (nonlinear table +
+   specimen state space) integrated over T with fixed RK4 substeps.
+
+The Python plant interface (:class:`impedance_mil.lab.plant_interface.VirtualTable`)
+calls the same ``plant_sense``, ``valve_command`` and ``plant_advance``; the
+compiled :func:`run_loop` is the fast implementation of that contract.
+
+Plant state ``y = [table states (6), specimen states (n)]``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..implement.kernels import channel_output, controller_step
+from ..implement.runtime import mil_step_kernel
+from ..specimens.sensors import force_from_equilibrium, load_cell_force_kernel, measure_kernel
+from ..plant.nonlinear import (IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES, PA_AREA,
+                               PA_KV, PA_LOOP, PA_MASS, PA_UVMAX, table_acceleration,
+                               table_derivative,
+                               valve_command)
+
+#: Loop modes.
+MODE_OPEN, MODE_TRACK, MODE_MIL = 0, 1, 2
+#: Feedback sources of w: reaction load cells or force equilibrium (Section 8.3.2, App. C).
+FEEDBACK_LC, FEEDBACK_FE = 0, 1
+
+#: Outputs of :func:`plant_sense`.
+SENSE_FIELDS = ("z", "w", "x_meas", "dp_meas", "z_meas", "w_lc", "w_fe")
+(M_Z, M_W, M_X, M_DP, M_ZM, M_WLC, M_WFE) = range(7)
+
+#: Safety limits array layout.
+(L_STROKE, L_VELOCITY, L_FORCE, L_VALVE_TIME, L_DIVERGE) = range(5)
+#: Trip codes (0 = none) and their names.
+TRIP_NAMES = ("", "stroke", "velocity", "actuator_force", "valve_saturation", "nan",
+              "divergence")
+
+#: Recorded channels, one column each of the record array.
+CHANNELS = ("t", "a_g", "z_vs", "u", "u_z", "u_w", "u_v", "current", "x", "v", "z", "dp",
+            "p1", "p2", "spool", "w", "w_lc", "w_fe", "w_used", "x_meas", "dp_meas", "z_meas")
+(C_T, C_AG, C_ZVS, C_U, C_UZ, C_UW, C_UV, C_I, C_X, C_V, C_Z, C_DP, C_P1, C_P2, C_S, C_W,
+ C_WLC, C_WFE, C_WUSED, C_XM, C_DPM, C_ZM) = range(len(CHANNELS))
+
+
+@njit(cache=True, inline="always")
+def coupled_derivative(pa, y, As, Bs, Cs, Ds, current, out):
+    """Derivative of the table + specimen state; returns the table acceleration z [in/s^2]."""
+    n = y.shape[0]
+    ws = 0.0
+    for i in range(N_TABLE_STATES, n):
+        ws += Cs[i - N_TABLE_STATES] * y[i]
+    # the table states lead y (table_derivative reads and writes indices 0..5 only)
+    z = table_derivative(pa, y, current, ws, Ds, out)
+    for i in range(N_TABLE_STATES, n):
+        acc = Bs[i - N_TABLE_STATES] * z
+        for j in range(N_TABLE_STATES, n):
+            acc += As[i - N_TABLE_STATES, j - N_TABLE_STATES] * y[j]
+        out[i] = acc
+    return z
+
+
+@njit(cache=True)
+def plant_advance(pa, y, As, Bs, Cs, Ds, current, dt, nsub, work):
+    """Advance the plant state ``y`` by ``dt`` [s]: ``nsub`` RK4 steps, valve current held [mA].
+
+    ``work`` is a (5, len(y)) scratch array.
+    """
+    h = dt / nsub
+    n = y.shape[0]
+    k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
+    for _ in range(nsub):
+        coupled_derivative(pa, y, As, Bs, Cs, Ds, current, k1)
+        for i in range(n):
+            tmp[i] = y[i] + 0.5 * h * k1[i]
+        coupled_derivative(pa, tmp, As, Bs, Cs, Ds, current, k2)
+        for i in range(n):
+            tmp[i] = y[i] + 0.5 * h * k2[i]
+        coupled_derivative(pa, tmp, As, Bs, Cs, Ds, current, k3)
+        for i in range(n):
+            tmp[i] = y[i] + h * k3[i]
+        coupled_derivative(pa, tmp, As, Bs, Cs, Ds, current, k4)
+        for i in range(n):
+            y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+@njit(cache=True)
+def plant_sense(pa, y, As, Bs, Cs, Ds, sens, noise_row, readings, out):
+    """Sensor readings at the current state into ``out`` (layout ``SENSE_FIELDS``).
+
+    ``sens`` is the tuple of :func:`impedance_mil.lab.setup.sensor_arrays`
+    (the arrays of a :class:`~impedance_mil.specimens.sensors.SensorSuite`);
+    ``readings`` receives every channel's reading.
+    """
+    ws = 0.0
+    for i in range(N_TABLE_STATES, y.shape[0]):
+        ws += Cs[i - N_TABLE_STATES] * y[i]
+    z = table_acceleration(pa, y, ws, Ds)
+    w = ws + Ds * z
+    dp = y[IX_P1] - y[IX_P2]
+    q = sens[10]
+    q[0] = z
+    q[1] = y[IX_X]
+    q[2] = dp
+    q[3] = pa[PA_AREA] * dp
+    q[4] = w
+    measure_kernel(q, noise_row, sens[0], sens[1], sens[2], sens[3], sens[4], sens[5],
+                   sens[6], sens[7], readings)
+    idx = sens[9]
+    out[M_Z] = z
+    out[M_W] = w
+    out[M_X] = readings[idx[1]]
+    out[M_DP] = readings[idx[2]]
+    out[M_ZM] = readings[idx[0]]
+    out[M_WLC] = load_cell_force_kernel(readings, sens[8])
+    out[M_WFE] = force_from_equilibrium(out[M_ZM], out[M_DP], pa[PA_MASS], pa[PA_AREA])
+
+
+@njit(cache=True)
+def check_limits(pa, lim, y, meas, uv, sat_ticks):
+    """Safety check of one tick; returns ``(trip code, offending value)`` (code 0: all clear).
+
+    ``sat_ticks`` is the number of consecutive loops with the valve command at
+    its limit (including this one).
+    """
+    for i in range(y.shape[0]):
+        if not math.isfinite(y[i]):
+            return 5, y[i]
+    if abs(y[IX_X]) > lim[L_DIVERGE]:
+        return 6, y[IX_X]
+    if abs(meas[M_X]) > lim[L_STROKE]:
+        return 1, meas[M_X]
+    if abs(y[IX_V]) > lim[L_VELOCITY]:
+        return 2, y[IX_V]
+    force = pa[PA_AREA] * meas[M_DP]
+    if abs(force) > lim[L_FORCE]:
+        return 3, force
+    if sat_ticks * pa[PA_LOOP] > lim[L_VALVE_TIME]:
+        return 4, uv
+    return 0, 0.0
+
+
+@njit(cache=True)
+def run_loop(mode, feedback, pa, nsub, y, As, Bs, Cs, Ds, sens, noise, lim, a_g, command,
+             m_z, m_w, s_z, s_w, tmp, compensated, kind_code, vs_params, x_vs, vs_work,
+             rec, vs_rec, work, status):
+    """The compiled sampled-data loop (module docstring); one code path for every setup.
+
+    Parameters
+    ----------
+    mode : int
+        MODE_OPEN (``command`` is u [in]), MODE_TRACK (``z_vs = a_g``) or MODE_MIL.
+    feedback : int
+        FEEDBACK_LC or FEEDBACK_FE: which w the VS and the controller use.
+    pa : ndarray
+        Table parameter array (:meth:`NonlinearTable.parameter_array`).
+    nsub : int
+        RK4 substeps per loop.
+    y : ndarray
+        Plant state (table + specimen), advanced in place.
+    As, Bs, Cs, Ds
+        Specimen state space (input z [in/s^2], output w [lbf]).
+    sens : tuple
+        Sensor arrays (:func:`impedance_mil.lab.setup.sensor_arrays`).
+    noise : ndarray (n, n_channels)
+        Standard normal draws per tick and sensor channel.
+    lim : ndarray
+        Safety limits (``L_*`` layout).
+    a_g, command : ndarray (n,)
+        Ground acceleration [in/s^2] and open-loop command [in] per tick.
+    m_z, m_w, s_z, s_w, tmp, compensated
+        Controller arrays of :class:`impedance_mil.implement.MILRuntime`.
+    kind_code, vs_params, x_vs, vs_work
+        Virtual system (MODE_MIL).
+    rec : ndarray (n, len(CHANNELS))
+        Receives the records.
+    vs_rec : ndarray (n, n_vs)
+        Receives the VS state at the start of each loop.
+    work : ndarray (5, len(y))
+        Scratch.
+    status : ndarray (3,)
+        Receives ``[ticks completed, trip code, offending value]``.
+    """
+    n = a_g.shape[0]
+    dt = pa[PA_LOOP]
+    meas = np.zeros(7)
+    readings = np.zeros(noise.shape[1])
+    out2 = np.zeros(2, dtype=tmp.dtype)
+    x_prev = 0.0
+    dp_prev = 0.0
+    sat = 0
+    uv_last = 0.0
+    status[0] = n
+    status[1] = 0.0
+    status[2] = 0.0
+    for k in range(n):
+        plant_sense(pa, y, As, Bs, Cs, Ds, sens, noise[k], readings, meas)
+        w_used = meas[M_WLC] if feedback == FEEDBACK_LC else meas[M_WFE]
+        code, value = check_limits(pa, lim, y, meas, uv_last, sat)
+        if code != 0:
+            status[0] = k
+            status[1] = code
+            status[2] = value
+            return
+        for i in range(x_vs.shape[0]):
+            vs_rec[k, i] = x_vs[i]
+        if mode == MODE_OPEN:
+            u = command[k]
+            u_w = 0.0
+            z_vs = 0.0
+        elif mode == MODE_TRACK:
+            u_w = channel_output(m_w, s_w, w_used)
+            u = controller_step(m_z, m_w, s_z, s_w, tmp, a_g[k], w_used, compensated)
+            z_vs = a_g[k]
+        else:
+            u_w = channel_output(m_w, s_w, w_used)
+            mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, vs_params, x_vs,
+                            vs_work, dt, a_g[k], w_used, out2)
+            u = out2[0]
+            z_vs = out2[1]
+        uv = valve_command(pa, u, x_prev, dp_prev)
+        x_prev = meas[M_X]
+        dp_prev = meas[M_DP]
+        sat = sat + 1 if abs(uv) >= pa[PA_UVMAX] else 0
+        uv_last = uv
+        current = pa[PA_KV] * uv
+        r = rec[k]
+        r[C_T] = k * dt
+        r[C_AG] = a_g[k]
+        r[C_ZVS] = z_vs
+        r[C_U] = u
+        r[C_UZ] = u - u_w
+        r[C_UW] = u_w
+        r[C_UV] = uv
+        r[C_I] = current
+        r[C_X] = y[IX_X]
+        r[C_V] = y[IX_V]
+        r[C_Z] = meas[M_Z]
+        r[C_DP] = y[IX_P1] - y[IX_P2]
+        r[C_P1] = y[IX_P1]
+        r[C_P2] = y[IX_P2]
+        r[C_S] = y[IX_S]
+        r[C_W] = meas[M_W]
+        r[C_WLC] = meas[M_WLC]
+        r[C_WFE] = meas[M_WFE]
+        r[C_WUSED] = w_used
+        r[C_XM] = meas[M_X]
+        r[C_DPM] = meas[M_DP]
+        r[C_ZM] = meas[M_ZM]
+        plant_advance(pa, y, As, Bs, Cs, Ds, current, dt, nsub, work)

@@ -1,0 +1,209 @@
+"""Running the sampled-data loop: the compiled path and the Python plant-interface path.
+
+:func:`simulate` builds the arrays of the compiled loop
+(:func:`impedance_mil.lab.kernels.run_loop`) from value objects and returns a
+:class:`~impedance_mil.lab.results.RunResult`.  :func:`simulate_interface`
+runs the same tick sequence in Python against any
+:class:`~impedance_mil.lab.plant_interface.PlantInterface` (the virtual table,
+the solve_ivp reference of :mod:`impedance_mil.lab.reference`, or a real
+controller link); with :class:`VirtualTable` both give the same trajectories.
+
+The loop mode follows from the arguments: a ``command`` history alone is an
+open-loop test (e.g. the multisine of Section 4.5), a runtime without a VS
+tracks ``a_g`` (Section 8, ``z_vs = a_g``), a runtime with a VS is a MIL run
+(Section 9).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+
+import numpy as np
+
+from ..errors import ConfigError, LimitTripped
+from ..plant.nonlinear import N_TABLE_STATES
+from .kernels import (CHANNELS, FEEDBACK_FE, FEEDBACK_LC, MODE_MIL, MODE_OPEN, MODE_TRACK,
+                      TRIP_NAMES, run_loop)
+from .plant_interface import PlantInterface, VirtualTable, specimen_arrays
+from .results import RunResult, Trip
+from .setup import SafetyLimits, default_sensors, sensor_arrays
+
+_FEEDBACK = {"lc": FEEDBACK_LC, "fe": FEEDBACK_FE}
+_MODES = {MODE_OPEN: "open", MODE_TRACK: "track", MODE_MIL: "mil"}
+
+
+def _mode_and_inputs(command, a_g, runtime) -> tuple[int, np.ndarray, np.ndarray]:
+    if runtime is None:
+        if command is None:
+            raise ConfigError("command", "a position command history [in] when no controller is given")
+        cmd = np.ascontiguousarray(command, dtype=float).ravel()
+        return MODE_OPEN, np.zeros(cmd.size), cmd
+    if a_g is None:
+        raise ConfigError("a_g", "a ground acceleration history [in/s^2] for a controlled run")
+    ag = np.ascontiguousarray(a_g, dtype=float).ravel()
+    mode = MODE_MIL if getattr(runtime, "vs", None) is not None else MODE_TRACK
+    return mode, ag, np.zeros(ag.size)
+
+
+def _vs_names(runtime) -> tuple:
+    vs = getattr(runtime, "vs", None)
+    if vs is None:
+        return ()
+    names = getattr(vs, "state_names", None)
+    return tuple(names) if names else tuple(f"s{i}" for i in range(vs.n_states))
+
+
+def _config(table, specimen, runtime, sensors, limits, substeps, seed, feedback, quantize,
+            extra) -> dict:
+    cfg = {"table": asdict(table), "sensors": sensors.to_dict(), "limits": limits.to_dict(),
+           "substeps": substeps, "seed": seed, "feedback": feedback, "quantize": quantize}
+    for key, obj in (("specimen", specimen), ("vs", getattr(runtime, "vs", None))):
+        if obj is not None:
+            cfg[key] = obj.to_dict() if hasattr(obj, "to_dict") else repr(obj)
+    if runtime is not None:
+        ctrl = getattr(runtime, "controller", None)
+        cfg["controller"] = ctrl.info() if hasattr(ctrl, "info") else repr(ctrl)
+        cfg["precision"] = getattr(runtime, "precision", "double")
+    cfg.update(extra or {})
+    return cfg
+
+
+def _controller_arrays(runtime):
+    if runtime is None:
+        z = np.zeros((1, 1))
+        s = np.zeros((2, 0))
+        return (z, z, s, s.copy(), np.zeros(1), False, 0, np.zeros(0), np.zeros(0), np.zeros(1))
+    runtime.reset()
+    return (runtime.m_z, runtime.m_w, runtime.s_z, runtime.s_w, runtime.tmp,
+            runtime.compensated, runtime.kind_code, runtime.vs_params, runtime.x_vs, runtime.work)
+
+
+def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feedback: str = "lc",
+             sensors=None, limits: SafetyLimits | None = None,
+             substeps: int = 2, seed: int = 0, quantize: bool = True,
+             config: dict | None = None) -> RunResult:
+    """Run the compiled sampled-data loop.
+
+    Parameters
+    ----------
+    table : NonlinearTable
+        The virtual table (its ``loop_time`` is the loop time).
+    command : array_like, optional
+        Open-loop position command u [in] per loop.
+    a_g : array_like, optional
+        Ground acceleration [in/s^2] per loop (sampled at the loop time).
+    runtime : MILRuntime, optional
+        Discrete controller (and VS) of :mod:`impedance_mil.implement`.
+    specimen : object, optional
+        Test article with ``state_space()``; ``None`` for the bare table.
+    feedback : {"lc", "fe"}
+        Source of w for the VS and controller: load cells or force equilibrium.
+    sensors : SensorSuite, optional
+        Default :func:`~impedance_mil.lab.setup.default_sensors` (Table 7.1, 16 bits, 1 mV noise).
+    limits : SafetyLimits, optional
+        Default interlocks.
+    substeps : int
+        RK4 substeps per loop.
+    seed : int
+        Sensor-noise seed.
+    quantize : bool
+        16-bit quantization of the sensors (``False`` for model studies).
+    config : dict, optional
+        Extra entries for the stored configuration (e.g. the motion's name).
+
+    Returns
+    -------
+    RunResult
+        With ``trip`` set (and records up to it) if an interlock stopped the run.
+    """
+    if feedback not in _FEEDBACK:
+        raise ConfigError("feedback", "'lc' (load cells) or 'fe' (force equilibrium)", feedback)
+    if int(substeps) < 1:
+        raise ConfigError("substeps", "a positive number of RK4 substeps", substeps)
+    sensors = sensors or default_sensors()
+    sens = sensor_arrays(sensors, feedback, quantize)
+    limits = limits or SafetyLimits()
+    mode, ag, cmd = _mode_and_inputs(command, a_g, runtime)
+    As, Bs, Cs, Ds = specimen_arrays(specimen)
+    n_y = N_TABLE_STATES + Bs.size
+    y = np.zeros(n_y)
+    y[:N_TABLE_STATES] = table.equilibrium_state()
+    n = ag.size
+    noise = sensors.draw_noise(np.random.default_rng(seed), n)
+    ctrl = _controller_arrays(runtime)
+    rec = np.zeros((n, len(CHANNELS)))
+    vs_rec = np.zeros((n, ctrl[8].size))
+    status = np.zeros(3)
+    run_loop(mode, _FEEDBACK[feedback], table.parameter_array(), int(substeps), y, As, Bs, Cs,
+             Ds, sens, noise, limits.array(table), ag, cmd, *ctrl, rec, vs_rec,
+             np.zeros((5, n_y)), status)
+    done = int(status[0])
+    trip = None
+    if status[1]:
+        trip = Trip(TRIP_NAMES[int(status[1])], done * table.loop_time, float(status[2]))
+    return RunResult(
+        channels={name: rec[:done, i].copy() for i, name in enumerate(CHANNELS)},
+        vs_states=vs_rec[:done].astype(float), vs_state_names=_vs_names(runtime),
+        mode=_MODES[mode], loop_time=table.loop_time, trip=trip,
+        config=_config(table, specimen, runtime, sensors, limits, substeps, seed, feedback,
+                       quantize, config))
+
+
+def simulate_interface(plant: PlantInterface, *, command=None, a_g=None, runtime=None,
+                       feedback: str = "lc") -> RunResult:
+    """Run the loop in Python against a :class:`PlantInterface` (same tick order as :func:`simulate`).
+
+    The VS and controller are stepped through ``runtime.mil_step`` /
+    ``runtime.step``.  True plant quantities are recorded when the plant
+    offers ``truth()`` (the virtual table does), NaN otherwise.
+    """
+    if feedback not in _FEEDBACK:
+        raise ConfigError("feedback", "'lc' (load cells) or 'fe' (force equilibrium)", feedback)
+    mode, ag, cmd = _mode_and_inputs(command, a_g, runtime)
+    if runtime is not None:
+        runtime.reset()
+    plant.reset()
+    rows, vs_rows, trip = [], [], None
+    for k in range(ag.size):
+        try:
+            m = plant.read_sensors()
+        except LimitTripped as exc:
+            trip = Trip(exc.limit, exc.time_s, float("nan"))
+            break
+        w_used = m.w_lc if feedback == "lc" else m.w_fe
+        vs_rows.append(np.array(runtime.x_vs, dtype=float) if runtime is not None else [])
+        u_w = 0.0
+        z_vs = 0.0
+        if mode == MODE_OPEN:
+            u = cmd[k]
+        else:
+            u_w = _channel_w_output(runtime, w_used)
+            if mode == MODE_TRACK:
+                u, z_vs = runtime.step(ag[k], w_used), ag[k]
+            else:
+                out = runtime.mil_step(ag[k], w_used)
+                u, z_vs = out.u, out.z_vs
+        plant.write_command(u)
+        truth = plant.truth() if hasattr(plant, "truth") else {}
+        row = dict.fromkeys(CHANNELS, np.nan)
+        row.update(truth)
+        row.update(t=m.time_s, a_g=ag[k], z_vs=z_vs, u=u, u_z=u - u_w, u_w=u_w, w_lc=m.w_lc,
+                   w_fe=m.w_fe, w_used=w_used, x_meas=m.x, dp_meas=m.dp, z_meas=m.z)
+        rows.append([row[c] for c in CHANNELS])
+        plant.advance()
+    rec = np.array(rows, dtype=float).reshape(-1, len(CHANNELS))
+    return RunResult(
+        channels={name: rec[:, i].copy() for i, name in enumerate(CHANNELS)},
+        vs_states=np.array(vs_rows, dtype=float).reshape(len(rows), -1),
+        vs_state_names=_vs_names(runtime), mode=_MODES[mode], loop_time=plant.loop_time,
+        trip=trip, config={"plant": type(plant).__name__, "feedback": feedback})
+
+
+def _channel_w_output(runtime, w: float) -> float:
+    """Present output of the H_uw channel (``u_w``) before the controller steps."""
+    m_w, s_w = runtime.m_w, runtime.s_w
+    n = s_w.shape[1]
+    return float(m_w[n, n] * w + np.dot(m_w[n, :n], s_w[0]))
+
+
+__all__ = ["simulate", "simulate_interface", "VirtualTable"]

@@ -1,0 +1,175 @@
+"""The plant interface: what a shake-table controller link offers, and the virtual table behind it.
+
+A MIL program sees the table through four calls (the RMC75E's axis, Section
+7.3.4): read the sensors of this loop, write the position command, let one
+loop time pass.  :class:`PlantInterface` is that contract; a link to a real
+controller can implement it, and :class:`VirtualTable` implements it with the
+nonlinear table of :mod:`impedance_mil.plant.nonlinear`, calling the same
+compiled functions (``plant_sense``, ``valve_command``, ``plant_advance``,
+``check_limits``) as the compiled loop of :mod:`impedance_mil.lab.kernels`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from ..errors import LimitTripped
+from ..plant.nonlinear import IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES, valve_command
+from .kernels import (M_DP, M_W, M_WFE, M_WLC, M_X, M_Z, M_ZM, TRIP_NAMES,
+                      check_limits, plant_advance, plant_sense)
+from .setup import SafetyLimits, default_sensors, sensor_arrays
+
+
+@dataclass(frozen=True)
+class Measurements:
+    """Sensor readings of one loop.
+
+    Attributes
+    ----------
+    time_s : float
+        Time of the readings [s].
+    x : float
+        Table displacement (string potentiometer) [in].
+    dp : float
+        Differential pressure [psi].
+    z : float
+        Table acceleration [in/s^2].
+    w_lc : float
+        Force of the test article on the table, reaction load cells [lbf].
+    w_fe : float
+        Same force from equilibrium, ``m_st z - A_p dP`` [lbf] (Section 8.3.2).
+    """
+
+    time_s: float
+    x: float
+    dp: float
+    z: float
+    w_lc: float
+    w_fe: float
+
+
+@runtime_checkable
+class PlantInterface(Protocol):
+    """A shake table under its own hydraulic control, stepped one loop at a time.
+
+    ``read_sensors`` raises :class:`~impedance_mil.errors.LimitTripped` when an
+    interlock has tripped; the caller stops and keeps what it recorded.
+    """
+
+    loop_time: float
+
+    def reset(self) -> None:
+        """Table at rest at mid-stroke; clocks at zero."""
+
+    def read_sensors(self) -> Measurements:
+        """Readings of the current loop."""
+
+    def write_command(self, u: float) -> None:
+        """Position command u [in] of the current loop."""
+
+    def advance(self) -> None:
+        """Let one loop time pass."""
+
+
+def specimen_arrays(specimen):
+    """``(A, B, C, D)`` of a specimen's state space (input z, output w); zeros for none."""
+    if specimen is None:
+        return np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
+    ss = specimen.state_space() if hasattr(specimen, "state_space") else specimen
+    return (np.ascontiguousarray(ss.A, dtype=float), np.ascontiguousarray(ss.B, dtype=float),
+            np.ascontiguousarray(ss.C, dtype=float), float(ss.D))
+
+
+class VirtualTable:
+    """The nonlinear virtual table (and specimen) behind :class:`PlantInterface`.
+
+    Parameters
+    ----------
+    table : NonlinearTable
+        Physical table (:meth:`NonlinearTable.from_linear`).
+    specimen : object, optional
+        Test article with ``state_space()`` (input z [in/s^2], output w [lbf]).
+    sensors : SensorSuite, optional
+        Sensor channels (default :func:`~impedance_mil.lab.setup.default_sensors`).
+    feedback : {"lc", "fe"}
+        Which force the caller will use (checks that load cells exist for "lc").
+    quantize : bool
+        16-bit quantization of the sensors.
+    limits : SafetyLimits
+        Interlocks.
+    substeps : int
+        RK4 substeps per loop.
+    seed : int
+        Seed of the sensor noise (numpy ``default_rng``; one row of
+        ``n_channels`` normals per loop, as in the compiled loop).
+    """
+
+    def __init__(self, table, specimen=None, sensors=None, limits: SafetyLimits | None = None,
+                 substeps: int = 2, seed: int = 0, feedback: str = "lc", quantize: bool = True):
+        self.table = table
+        self.loop_time = table.loop_time
+        self._pa = table.parameter_array()
+        self._A, self._B, self._C, self._D = specimen_arrays(specimen)
+        self.sensors = sensors or default_sensors()
+        self._sens = sensor_arrays(self.sensors, feedback, quantize)
+        self._readings = np.zeros(self.sensors.n_channels)
+        self._lim = (limits or SafetyLimits()).array(table)
+        self.substeps = int(substeps)
+        self.seed = seed
+        n = N_TABLE_STATES + self._B.size
+        self.y = np.zeros(n)
+        self._work = np.zeros((5, n))
+        self._meas = np.zeros(7)
+        self.reset()
+
+    def reset(self) -> None:
+        self.y[:] = 0.0
+        self.y[:N_TABLE_STATES] = self.table.equilibrium_state()
+        self._rng = np.random.default_rng(self.seed)
+        self._tick = 0
+        self._x_prev = 0.0
+        self._dp_prev = 0.0
+        self._sat = 0
+        self.valve_command = 0.0
+        self.current = 0.0
+        self._sense()
+
+    def _sense(self) -> None:
+        noise = self.sensors.draw_noise(self._rng)
+        plant_sense(self._pa, self.y, self._A, self._B, self._C, self._D, self._sens, noise,
+                    self._readings, self._meas)
+
+    @property
+    def time_s(self) -> float:
+        return self._tick * self.loop_time
+
+    def read_sensors(self) -> Measurements:
+        code, value = check_limits(self._pa, self._lim, self.y, self._meas,
+                                   self.valve_command, self._sat)
+        if code:
+            raise LimitTripped(TRIP_NAMES[code], self.time_s, f"value {value:.6g}")
+        m = self._meas
+        return Measurements(self.time_s, m[M_X], m[M_DP], m[M_ZM], m[M_WLC], m[M_WFE])
+
+    def write_command(self, u: float) -> None:
+        uv = valve_command(self._pa, float(u), self._x_prev, self._dp_prev)
+        self._x_prev, self._dp_prev = self._meas[M_X], self._meas[M_DP]
+        self._sat = self._sat + 1 if abs(uv) >= self.table.valve_command_limit else 0
+        self.valve_command = uv
+        self.current = self.table.Kv * uv
+
+    def advance(self) -> None:
+        plant_advance(self._pa, self.y, self._A, self._B, self._C, self._D, self.current,
+                      self.loop_time, self.substeps, self._work)
+        self._tick += 1
+        self._sense()
+
+    def truth(self) -> dict:
+        """True (unmeasured) plant quantities of the current loop."""
+        y = self.y
+        return {"x": y[IX_X], "v": y[IX_V], "z": self._meas[M_Z], "dp": y[IX_P1] - y[IX_P2],
+                "p1": y[IX_P1], "p2": y[IX_P2], "spool": y[IX_S], "w": self._meas[M_W],
+                "u_v": self.valve_command, "current": self.current}

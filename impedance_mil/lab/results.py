@@ -1,0 +1,172 @@
+"""Results of a virtual-lab run and their HDF5 files.
+
+A :class:`RunResult` holds every recorded channel (``CHANNELS`` of
+:mod:`impedance_mil.lab.kernels`), the VS states, how the run ended (a
+:class:`Trip` when a safety limit stopped it; the data up to the trip are
+kept) and the full configuration.  :func:`save_run` writes one HDF5 file per
+run, to a temporary name renamed into place; :func:`load_run` reads it back.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from .. import __version__
+from ..errors import DataFileError, LimitTripped
+from .kernels import CHANNELS
+
+#: Format tag written in every run file.
+FILE_FORMAT = "impedance-mil run 1"
+
+
+@dataclass(frozen=True)
+class Trip:
+    """A safety limit that stopped a run.
+
+    Attributes
+    ----------
+    limit : str
+        ``"stroke"``, ``"velocity"``, ``"actuator_force"``, ``"valve_saturation"``,
+        ``"nan"`` or ``"divergence"``.
+    time_s : float
+        Time of the trip [s]; records stop just before it.
+    value : float
+        The offending value (in, in/s, lbf or V).
+    """
+
+    limit: str
+    time_s: float
+    value: float
+
+    @property
+    def detail(self) -> str:
+        return f"value {self.value:.6g}"
+
+    def as_exception(self) -> LimitTripped:
+        """The :class:`~impedance_mil.errors.LimitTripped` describing this trip."""
+        return LimitTripped(self.limit, self.time_s, self.detail)
+
+
+@dataclass(frozen=True, eq=False)
+class RunResult:
+    """Every channel of one run, named (``result.x``, ``result.u_w`` ...).
+
+    Attributes
+    ----------
+    channels : dict of str to ndarray
+        One array per entry of ``CHANNELS`` (units: s, in/s^2, in, V, mA,
+        in/s, psi, lbf), one sample per loop.
+    vs_states : ndarray (n, n_vs)
+        VS state at the start of each loop (empty without a VS).
+    vs_state_names : tuple of str
+        Names of the VS states.
+    mode : str
+        ``"open"``, ``"track"`` or ``"mil"``.
+    loop_time : float
+        Loop time [s].
+    trip : Trip or None
+        Safety trip that ended the run, if any.
+    config : dict
+        Full configuration (JSON-serializable).
+    software_version : str
+        impedance-mil version that produced the run.
+    """
+
+    channels: dict
+    vs_states: np.ndarray
+    vs_state_names: tuple
+    mode: str
+    loop_time: float
+    trip: Trip | None = None
+    config: dict = field(default_factory=dict)
+    software_version: str = __version__
+
+    def __getattr__(self, name):
+        channels = self.__dict__.get("channels", {})
+        if name in channels:
+            return channels[name]
+        raise AttributeError(f"RunResult has no channel or attribute {name!r}")
+
+    @property
+    def completed(self) -> bool:
+        """True when no safety limit tripped."""
+        return self.trip is None
+
+    @property
+    def n_samples(self) -> int:
+        return int(self.channels["t"].size)
+
+    def raise_if_tripped(self) -> "RunResult":
+        """Raise :class:`LimitTripped` if a limit stopped the run; else return self."""
+        if self.trip is not None:
+            raise self.trip.as_exception()
+        return self
+
+
+def save_run(result: RunResult, path: str | Path) -> Path:
+    """Write ``result`` to an HDF5 file (temporary name, then rename); return the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        with h5py.File(tmp, "w") as f:
+            f.attrs["format"] = FILE_FORMAT
+            f.attrs["software_version"] = result.software_version
+            f.attrs["mode"] = result.mode
+            f.attrs["loop_time_s"] = result.loop_time
+            f.attrs["config_json"] = json.dumps(result.config, default=_jsonable)
+            f.attrs["trip_json"] = json.dumps(None if result.trip is None else {
+                "limit": result.trip.limit, "time_s": result.trip.time_s,
+                "value": result.trip.value})
+            grp = f.create_group("channels")
+            for name, arr in result.channels.items():
+                grp.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
+            ds = f.create_dataset("vs_states", data=result.vs_states)
+            ds.attrs["names"] = json.dumps(list(result.vs_state_names))
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def load_run(path: str | Path) -> RunResult:
+    """Read a run file written by :func:`save_run`."""
+    path = Path(path)
+    try:
+        with h5py.File(path, "r") as f:
+            if f.attrs.get("format") != FILE_FORMAT:
+                raise DataFileError(path, f"not an impedance-mil run file (format {FILE_FORMAT!r})")
+            channels = {name: np.asarray(f["channels"][name]) for name in CHANNELS
+                        if name in f["channels"]}
+            trip = json.loads(f.attrs["trip_json"])
+            return RunResult(
+                channels=channels, vs_states=np.asarray(f["vs_states"]),
+                vs_state_names=tuple(json.loads(f["vs_states"].attrs["names"])),
+                mode=str(f.attrs["mode"]), loop_time=float(f.attrs["loop_time_s"]),
+                trip=None if trip is None else Trip(trip["limit"], trip["time_s"], trip["value"]),
+                config=json.loads(f.attrs["config_json"]),
+                software_version=str(f.attrs["software_version"]))
+    except OSError as exc:
+        raise DataFileError(path, f"cannot read HDF5 run file ({exc})") from exc
+    except KeyError as exc:
+        raise DataFileError(path, f"missing entry {exc}") from exc
+
+
+def _jsonable(obj):
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, (np.floating, np.integer)):
+        return obj.item()
+    if hasattr(obj, "to_dict"):
+        return obj.to_dict()
+    return repr(obj)

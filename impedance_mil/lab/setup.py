@@ -1,0 +1,118 @@
+"""Configuration of a virtual-lab run: sensors and safety limits.
+
+Sensors are a :class:`~impedance_mil.specimens.sensors.SensorSuite` (report
+Table 7.1 calibration, 16-bit analog inputs over +-10 V).  Noise levels are
+not reported; the lab's default, :data:`DEFAULT_NOISE_V` = 1 mV rms per
+channel (about 3 LSB), is an assumption of this tool.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..specimens.sensors import QUANTITIES, SensorSuite
+from .kernels import L_DIVERGE, L_FORCE, L_STROKE, L_VALVE_TIME, L_VELOCITY
+
+#: Default sensor noise of the virtual lab [V rms per channel].
+DEFAULT_NOISE_V = 1.0e-3
+
+#: Quantities the loop must read, in the order of the channel-index array.
+_REQUIRED = ("table_acceleration", "table_displacement", "differential_pressure")
+
+
+def default_sensors(noise_rms_v: float = DEFAULT_NOISE_V) -> SensorSuite:
+    """The Table 7.1 channels with ``noise_rms_v`` [V rms] of noise each."""
+    return SensorSuite.report_default(noise_rms_v=noise_rms_v)
+
+
+#: LSB [V] standing for "no quantization" (exact to double precision within +-10 V).
+UNQUANTIZED_LSB_V = 1.0e-14
+
+
+def ideal_sensors() -> SensorSuite:
+    """Table 7.1 channels without noise (pass ``quantize=False`` to drop the 16 bits too)."""
+    return SensorSuite.report_default(noise_rms_v=0.0)
+
+
+def sensor_arrays(suite: SensorSuite, feedback: str = "lc", quantize: bool = True) -> tuple:
+    """The tuple of arrays :func:`impedance_mil.lab.kernels.plant_sense` reads.
+
+    ``(quantity_index, gain, scale, offset, noise_rms, lsb, v_low, v_high,
+    load_cell_weights, channel_index, quantity_buffer)``; ``channel_index``
+    holds the first channel measuring z, x and dP.  ``quantize=False``
+    replaces the 16-bit LSB by :data:`UNQUANTIZED_LSB_V` (model studies only).
+    """
+    qi = np.asarray(suite.quantity_index)
+    idx = []
+    for name in _REQUIRED:
+        hits = np.nonzero(qi == QUANTITIES.index(name))[0]
+        if hits.size == 0:
+            raise ConfigError("sensors", f"a channel measuring {name}", suite.names)
+        idx.append(int(hits[0]))
+    if feedback == "lc" and not np.any(suite.load_cell_weights != 0):
+        raise ConfigError("sensors", "reaction load cells (interface_force channels) for "
+                          "feedback 'lc'", suite.names)
+    return (np.ascontiguousarray(qi, dtype=np.int64), np.array(suite.gain),
+            np.array(suite.scale), np.array(suite.offset), np.array(suite.noise_rms),
+            np.array(suite.lsb) if quantize else np.full(suite.n_channels, UNQUANTIZED_LSB_V),
+            np.array(suite.v_low), np.array(suite.v_high),
+            np.array(suite.load_cell_weights), np.array(idx, dtype=np.int64),
+            np.zeros(len(QUANTITIES)))
+
+
+@dataclass(frozen=True)
+class SafetyLimits:
+    """Interlocks of the virtual controller; a run that crosses one stops cleanly.
+
+    Parameters
+    ----------
+    stroke : float
+        Measured displacement limit [in] (report Section 8.2: +-3 in).
+    velocity : float
+        Table velocity limit [in/s] (the valve's rated flow over A_p is 27.5 in/s;
+        default 40 in/s).
+    actuator_force : float, optional
+        |A_p dP| limit [lbf]; default 95 % of the stall force A_p (P_s - P_R).
+    valve_saturation_time : float
+        Longest time the valve command may sit at its limit [s].
+    divergence : float
+        Displacement beyond which the simulation is declared divergent [in].
+    """
+
+    stroke: float = 3.0
+    velocity: float = 40.0
+    actuator_force: float | None = None
+    valve_saturation_time: float = 0.25
+    divergence: float = 20.0
+
+    def __post_init__(self):
+        for key in ("stroke", "velocity", "valve_saturation_time", "divergence"):
+            value = getattr(self, key)
+            if not (np.isfinite(value) and value > 0):
+                raise ConfigError(f"limits.{key}", "a positive finite number", value)
+        if self.actuator_force is not None and not self.actuator_force > 0:
+            raise ConfigError("limits.actuator_force", "a positive force [lbf]",
+                              self.actuator_force)
+
+    @classmethod
+    def disabled(cls) -> "SafetyLimits":
+        """Only NaN and divergence checks remain (for studies beyond the rig's limits)."""
+        return cls(stroke=1e9, velocity=1e9, actuator_force=1e12, valve_saturation_time=1e9,
+                   divergence=1e3)
+
+    def array(self, table) -> np.ndarray:
+        """Limits in the kernel layout for ``table`` (a NonlinearTable)."""
+        out = np.zeros(5)
+        out[L_STROKE] = self.stroke
+        out[L_VELOCITY] = self.velocity
+        out[L_FORCE] = (0.95 * table.max_force if self.actuator_force is None
+                        else self.actuator_force)
+        out[L_VALVE_TIME] = self.valve_saturation_time
+        out[L_DIVERGE] = self.divergence
+        return out
+
+    def to_dict(self) -> dict:
+        return asdict(self)
