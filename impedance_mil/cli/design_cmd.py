@@ -1,8 +1,170 @@
-"""`imil design` command (placeholder until the design issue lands)."""
+"""`imil design`: design the impedance-matching MIL controller (report Sections 6, 8.1, 9.4).
+
+Builds the linear table model (``--table``, default the report's table) and
+the VS linear part (``--vs``), designs the filtered controller of the chosen
+form at one cut-off (``--fc 80``), several (``--fc 80,100,250``: the first is
+the design, all are evaluated) or an automatic one (``--fc auto``), checks
+constraints I, II, III, and writes the design file (``-o``) and the
+Figure 9.31 plots (``--plots DIR``).
+
+Exit status: 0 on success (also when a constraint is violated: the
+violation is a warning in the output and the JSON); 2 for bad input or an
+impossible design (one line on stderr, nothing written).
+"""
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import List, Optional
 
-def design() -> None:
-    """Design the impedance-matching MIL controller (not yet available)."""
-    print("imil design: not yet available")
+import typer
+
+from ..config import parse_overrides
+from ..design import DesignCriteria, design_controller, save_design, table_model, virtual_model
+from ..design.constraints import HALF_POWER_ERROR
+from ..design.feasibility import choose_fc, mass_ratio_study, scan_fc
+from ..design.filters import FAMILIES
+from ..design.forms import FORMS
+from ..errors import ConfigError
+from ..plant import TableParameters, default_table_path
+from ..report.design_plots import plot_constraint_summary, plot_design_rows
+from ..report.motion_plots import save_figure
+from ..virtual.files import resolve
+from .common import console, print_json
+
+
+def _parse_fc(text: str) -> Optional[list[float]]:
+    """``"auto"`` -> None; ``"80"`` or ``"80,100,250"`` -> list of positive floats [Hz]."""
+    if text.strip().lower() == "auto":
+        return None
+    try:
+        values = [float(part) for part in text.split(",") if part.strip()]
+    except ValueError:
+        raise ConfigError("--fc", "a cut-off in Hz, a comma-separated list, or 'auto'", text) from None
+    if not values or any(not (v > 0 and v < float("inf")) for v in values):
+        raise ConfigError("--fc", "positive cut-off frequencies in Hz", text)
+    return values
+
+
+def _parse_list(option: str, text: Optional[str], count: Optional[int] = None) -> Optional[list[float]]:
+    if text is None:
+        return None
+    try:
+        values = [float(part) for part in text.split(",") if part.strip()]
+    except ValueError:
+        raise ConfigError(option, "comma-separated numbers", text) from None
+    if not values or (count is not None and len(values) != count) or any(v <= 0 for v in values):
+        raise ConfigError(option, f"{count or 'some'} positive comma-separated numbers", text)
+    return values
+
+
+def design(
+    table: Optional[Path] = typer.Option(None, "--table", help="Table file (TOML); default the report's table."),
+    vs: Optional[str] = typer.Option(None, "--vs", help="VS preset (SD1..FP3) or VS file (TOML)."),
+    sets: Optional[List[str]] = typer.Option(None, "--set", help="Table value KEY=VALUE."),
+    sets_vs: Optional[List[str]] = typer.Option(None, "--set-vs", help="VS value KEY=VALUE."),
+    form: str = typer.Option("standardized", "--form", help="standardized | vs-specific | tracking | general."),
+    fc: str = typer.Option("80", "--fc", help="Cut-off [Hz]: 80, 80,100,250 (first is the design) or auto."),
+    fc_w: Optional[float] = typer.Option(None, "--fc-w", help="Separate cut-off of the w path [Hz]."),
+    family: str = typer.Option("butterworth", "--filter", help="butterworth | bessel | chebyshev1."),
+    order: Optional[int] = typer.Option(None, "--order", help="Filter order (default: the relative degree)."),
+    ripple_db: float = typer.Option(0.5, "--ripple-db", help="Chebyshev I pass-band ripple [dB]."),
+    band: Optional[str] = typer.Option(None, "--band", help="Band of interest LO,HI [Hz] (default 0.25,15)."),
+    performance_max: float = typer.Option(HALF_POWER_ERROR, "--performance-max",
+                                          help="Constraint I limit (relative impedance error)."),
+    effort_max: float = typer.Option(1.0, "--effort-max", help="Constraint II limit (HF/in-band gain)."),
+    passivity_tol: float = typer.Option(0.0, "--passivity-tol", help="Extra passivity tolerance [deg]."),
+    mass_ratios: Optional[str] = typer.Option(None, "--mass-ratios",
+                                              help="Basemat-mass study: m_vs/m_st values, e.g. 1.25,1,0.8."),
+    json_out: bool = typer.Option(False, "--json", help="Print JSON."),
+    plots: Optional[Path] = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
+    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
+) -> None:
+    """Design the impedance-matching MIL controller and check constraints I, II, III."""
+    if form not in FORMS:
+        raise ConfigError("--form", "one of " + ", ".join(FORMS), form)
+    if family not in FAMILIES:
+        raise ConfigError("--filter", "one of " + ", ".join(FAMILIES), family)
+    if plots is not None and not plots.is_dir():
+        raise ConfigError("--plots", "an existing folder", str(plots))
+    if output is not None and not output.parent.is_dir():
+        raise ConfigError("-o", "a path in an existing folder", str(output))
+    fcs = _parse_fc(fc)
+    band_values = _parse_list("--band", band, 2)
+    criteria = DesignCriteria(band_hz=tuple(band_values) if band_values else (0.25, 15.0),
+                              performance_max=performance_max, effort_ratio_max=effort_max,
+                              passivity_extra_tolerance_deg=passivity_tol)
+    ratios = _parse_list("--mass-ratios", mass_ratios)
+    params = TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
+    tm = table_model(params)
+    spec = None
+    if vs is not None and form != "tracking":
+        spec = resolve(vs, parse_overrides(sets_vs, option="--set-vs"))
+    vm = virtual_model(spec.vs, spec.name) if spec is not None else None
+    if vm is None and form in ("general", "vs-specific"):
+        raise ConfigError("--vs", f"a VS preset or file for the {form} form")
+    kw = dict(form=form, family=family, order=order, criteria=criteria)
+    if fcs is None:
+        choice = choose_fc(tm, vm, **kw)
+        fcs, reasons, scan = [choice.fc_hz], list(choice.reasons), choice.scan
+    else:
+        reasons, scan = [], scan_fc(tm, vm, **kw)
+    result = design_controller(tm, vm, fc_hz=fcs[0], evaluate_fc_hz=fcs[1:], fc_w_hz=fc_w,
+                               ripple_db=ripple_db, feasible_fc_hz=scan.feasible_fc_hz,
+                               emit_warnings=False, **kw)
+    study = []
+    if ratios:
+        if spec is None:
+            raise ConfigError("--mass-ratios", "a VS (--vs) and a form other than tracking")
+        study = [{"mass_ratio": c.mass_ratio,
+                  "feasible_fc_hz": None if c.feasible_fc_hz is None else list(c.feasible_fc_hz)}
+                 for c in mass_ratio_study(tm, lambda m: virtual_model(
+                     resolve(vs, {**parse_overrides(sets_vs, option="--set-vs"), "m_vs": m}).vs, spec.name),
+                     ratios, form=form, criteria=criteria)]
+    written = []
+    if plots is not None:
+        rows = fcs if len(fcs) > 1 else sorted({*([scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]]
+                                                  if scan.feasible_fc_hz else []), fcs[0]})
+        label = f"{form} controller, {spec.name if spec else 'tracking'}"
+        written.append(save_figure(plot_design_rows(tm, vm, rows, form=form, family=family, order=order,
+                                                    title=label), plots / "design_fig931.png"))
+        written.append(save_figure(plot_constraint_summary(scan.results, criteria, scan.feasible_fc_hz,
+                                                           title=label), plots / "design_constraints.png"))
+    if output is not None:
+        written.append(save_design(result, output))
+    doc = result.to_json()
+    doc["fc_choice_reasons"] = reasons
+    if study:
+        doc["mass_ratio_study"] = study
+    if json_out:
+        print_json(doc)
+        return
+    _print_human(result, reasons, study, written)
+
+
+def _print_human(result, reasons, study, written) -> None:
+    console.print(f"[bold]{result.form}[/] controller, fc = {result.fc_hz:.4g} Hz, {result.filter.family} "
+                  f"filters of order {result.filter.order_z} (z) / {result.filter.order_w} (w); "
+                  f"u = H_uz*{result.reference} + H_uw*w" + (" + H_ufh*f_h" if result.H_ufh is not None else ""))
+    for name, H in (("H_uz", result.H_uz), ("H_uw", result.H_uw), ("H_ufh", result.H_ufh)):
+        if H is not None:
+            console.print(f"  {name}: num = [{', '.join(f'{c:.4g}' for c in H.num)}]")
+            console.print(f"  {' ' * len(name)}  den = [{', '.join(f'{c:.4g}' for c in H.den)}]")
+    console.print("  fc [Hz]    I  perf.err   II  effort    III  margin deg (tolerant)")
+    for c in result.constraints:
+        mark = {True: "ok", False: "NO"}
+        console.print(f"  {c.fc_hz:8.4g}  {mark[c.I]:>3} {c.performance_error:8.3f}  {mark[c.II]:>3} "
+                      f"{c.effort_ratio:8.3g}  {mark[c.III]:>3} {c.passivity_margin_deg:8.2f} "
+                      f"({c.passivity_tolerant_margin_deg:.2f})")
+    feas = result.feasible_fc_hz
+    console.print("  feasible fc: " + (f"{feas[0]:.4g}-{feas[1]:.4g} Hz" if feas else "none on the grid"))
+    for text in reasons:
+        console.print(f"  auto: {text}")
+    for row in study:
+        r = row["feasible_fc_hz"]
+        console.print(f"  m_vs/m_st = {row['mass_ratio']:g}: feasible fc "
+                      + (f"{r[0]:.4g}-{r[1]:.4g} Hz" if r else "none"))
+    for text in result.warnings:
+        console.print(f"[yellow]warning:[/] {text}")
+    for path in written:
+        console.print(f"wrote {path}")
