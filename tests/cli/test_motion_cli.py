@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.resources
 import json
 import sys
 
@@ -157,3 +158,24 @@ def test_export_for_the_loop_round_trips(monkeypatch, capsys, tmp_path):
     code, _, err = _imil(monkeypatch, capsys, "motion", "export", "elcentro", "--dt", "0.00123456789",
                          "-o", str(tmp_path / "x.csv"))
     assert code == 2 and "time_step" in err and not (tmp_path / "x.csv").exists()
+
+
+def test_check_with_table_file_and_units(monkeypatch, capsys, tmp_path):
+    # A table file with a bigger actuator: 5 in^2 piston, 6 in stroke, in metric where pint allows.
+    # v_max = 57.75 sqrt(3000/1000) / 5 = 20.005 in/s (hand); force 5 x 3000 = 15000 lbf.
+    text = (importlib.resources.files("impedance_mil") / "data/tables/report_table_4_1.toml").read_text()
+    text = text.replace('piston_area = "2.1 in**2"', 'piston_area = "32.258 cm**2"')
+    text = text.replace('mid_stroke = "3.2 in"', 'mid_stroke = "6 in"')
+    table = tmp_path / "big.toml"
+    table.write_text(text)
+    code, out, _ = _imil(monkeypatch, capsys, "motion", "check", "elcentro", "--table", str(table),
+                         "--pga", "0.8", "--json")
+    data = json.loads(out)
+    limits = {c["name"]: c["limit"] for c in data["checks"]}
+    assert limits["velocity"] == pytest.approx(57.75 * 3**0.5 / 5.0, rel=1e-6)
+    assert limits["force"] == pytest.approx(15000.0, rel=1e-6) and limits["stroke"] == 6.0
+    # Unscaled GM1: 9.7 in > 6 in, 34.7 in/s > 20.0 in/s, and the flow 5 x 34.7 = 173 in^3/s > 57.75.
+    assert code == 1 and data["exceeded"] == ["stroke", "velocity", "flow"]
+    code, _, err = _imil(monkeypatch, capsys, "motion", "check", "elcentro", "--table",
+                         str(tmp_path / "missing.toml"))
+    assert code == 2 and "missing.toml" in err and err.count("\n") == 1
