@@ -1,7 +1,168 @@
-"""`imil table` commands (placeholder until its issue lands)."""
+"""`imil table`: the shake-table model (report Sections 3-4).
+
+Every command takes ``--table FILE`` (default: the report's Table 4.1, as
+corrected in docs/errata.md), repeated ``--set KEY=VALUE`` overrides (bare
+numbers in report units, or quantities with units) and ``--json``.
+"""
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import List, Optional
+
 import typer
 
-app = typer.Typer(help="table commands.", no_args_is_help=True)
+from ..config import parse_overrides
+from ..plant import LinearTable, TableParameters, default_table_path
+from ..plant.tuning import (breakaway, first_order_validity_limit, labelled_poles, recommend_kp,
+                            stability_limit)
+from ..report import table_plots
+from ..systems import pole_table
+from .common import console, print_json
+
+app = typer.Typer(help="Shake-table model: parameters, poles, transfer functions, tuning.",
+                  no_args_is_help=True)
+
+TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default: report Table 4.1.")
+SetOpt = typer.Option(None, "--set", help="Override KEY=VALUE (repeatable), e.g. Ke=4 or 'mass=1600 lb'.")
+JsonOpt = typer.Option(False, "--json", help="Print JSON.")
+DelayOpt = typer.Option("first-order", "--delay", help="Loop-time delay: none, first-order, pade, sampled.")
+PadeOpt = typer.Option(6, "--pade-order", help="Order of the Pade approximation.")
+
+
+def _say(text: str) -> None:
+    """Print plain text (no rich markup: units like [rad/s] are kept)."""
+    console.print(text, markup=False)
+
+
+def load_params(table: Optional[Path], sets: Optional[List[str]]) -> TableParameters:
+    """Parameters from ``--table`` and ``--set`` (errors name the key or file)."""
+    return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
+
+
+@app.command()
+def info(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
+         json: bool = JsonOpt) -> None:
+    """Parameters (internal units) and derived quantities."""
+    p = load_params(table, set)
+    data = {"parameters": p.to_dict(), "derived": {
+        "omega_oil_rad_s": p.omega_oil, "bulk_modulus_psi": p.bulk_modulus,
+        "leakage_coefficient_in3_s_psi": p.leakage_coefficient,
+        "valve_flow_gain_in3_s_mA": p.valve_flow_gain}}
+    if json:
+        print_json(data)
+        return
+    for key, value in {**data["parameters"], **data["derived"]}.items():
+        _say(f"{key:32s} {value}")
+
+
+def _poles_rows(p: TableParameters, delay: str, pade_order: int) -> list[dict]:
+    tbl = LinearTable(p, delay=delay, pade_order=pade_order)
+    rows = pole_table(tbl.poles())
+    if delay in ("none", "first-order"):
+        labels = {complex(m.pole): m.label for m in labelled_poles(p, delay)}
+        for row in rows:
+            q = complex(row["real"], row["imag"])
+            row["label"] = min(labels.items(), key=lambda kv: abs(kv[0] - q))[1]
+    return rows
+
+
+@app.command()
+def poles(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
+          json: bool = JsonOpt, delay: str = DelayOpt, pade_order: int = PadeOpt) -> None:
+    """Closed-loop poles: frequency [Hz], damping [-], real/imag [rad/s]; reports instability."""
+    p = load_params(table, set)
+    rows = _poles_rows(p, delay, pade_order)
+    stable = LinearTable(p, delay=delay, pade_order=pade_order).is_stable()
+    if json:
+        print_json({"poles": rows, "stable": stable, "delay": delay})
+        return
+    _say(f"delay model: {delay}   stable: {'yes' if stable else 'NO'}")
+    _say(f"{'pole':5s} {'f [Hz]':>9s} {'zeta':>8s} {'real [rad/s]':>14s} {'imag [rad/s]':>14s}")
+    for row in rows:
+        _say(f"{row.get('label', ''):5s} {row['frequency_hz']:9.2f} {row['damping']:8.3f} "
+                      f"{row['real']:14.2f} {row['imag']:14.2f}")
+
+
+@app.command()
+def tf(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
+       json: bool = JsonOpt, delay: str = DelayOpt, pade_order: int = PadeOpt,
+       input: str = typer.Option("u", "--input", help="u (command [in]) or w (force [lbf])."),
+       output: str = typer.Option("z", "--output", help="z [in/s^2], x [in], v [in/s] or dp [psi]."),
+       ) -> None:
+    """Transfer function output/input: descending powers of s, monic denominator.
+
+    With ``--delay sampled`` the discrete function in z is printed (with ``dt``).
+    """
+    p = load_params(table, set)
+    tbl = LinearTable(p, delay=delay, pade_order=pade_order)
+    H = tbl.sampled().tf(output, input) if delay == "sampled" else tbl.tf(output, input)
+    data = H.to_dict()
+    if json:
+        print_json(data)
+        return
+    var = "z" if delay == "sampled" else "s"
+    _say(f"H_{output}{input}({var}) = num/den, descending powers of {var}")
+    _say(f"num = {data['num']}")
+    _say(f"den = {data['den']}")
+
+
+@app.command()
+def bode(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
+         json: bool = JsonOpt, delay: str = DelayOpt,
+         out: Path = typer.Option(Path("table-bode.png"), "-o", "--out", help="PNG file."),
+         fmin: float = typer.Option(0.1, "--fmin", help="Lowest frequency [Hz]."),
+         fmax: float = typer.Option(200.0, "--fmax", help="Highest frequency [Hz].")) -> None:
+    """Bode plots of the six transfer functions (PNG)."""
+    p = load_params(table, set)
+    table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax)
+    if json:
+        print_json({"file": str(out)})
+    else:
+        _say(f"wrote {out}")
+
+
+@app.command()
+def rlocus(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
+           json: bool = JsonOpt,
+           param: str = typer.Option("Ke", "--param", help="Ke, Kp or loop_time."),
+           upper: Optional[float] = typer.Option(None, "--max", help="Largest value (internal units)."),
+           out: Path = typer.Option(Path("table-rlocus.png"), "-o", "--out", help="PNG file.")) -> None:
+    """Root locus of the five poles for a K_e, K_p or loop-time sweep (PNG)."""
+    p = load_params(table, set)
+    table_plots.save_root_locus(p, param, out, upper=upper)
+    if json:
+        print_json({"file": str(out)})
+    else:
+        _say(f"wrote {out}")
+
+
+@app.command()
+def tune(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
+         json: bool = JsonOpt) -> None:
+    """Stability limits, break-away points and the K_p maximizing oil-column damping."""
+    p = load_params(table, set)
+    analog = p.replace(loop_time=0.0)
+    rec = recommend_kp(p)
+    limit = first_order_validity_limit(p)
+    data = {
+        "Ke_limit_analog_Kp0": stability_limit(analog.replace(Kp=0.0), "Ke", 100.0, "none"),
+        "Ke_limit": stability_limit(p, "Ke", 100.0),
+        "Kp_limit": stability_limit(p, "Kp", 0.05),
+        "Ke_breakaway_analog_Kp0": breakaway(analog.replace(Kp=0.0), "Ke", 100.0),
+        "Kp_breakaway_analog": breakaway(analog, "Kp", 0.01),
+        "recommended_Kp": rec.Kp, "recommended_oil_damping": rec.damping,
+        "recommended_oil_frequency_hz": rec.frequency_hz,
+        "first_order_delay_valid_up_to_s": limit,
+        "stable": LinearTable(p).is_stable(),
+    }
+    if json:
+        print_json(data)
+        return
+    _say(f"stable with these parameters: {'yes' if data['stable'] else 'NO'}")
+    fmt = {None: "none found"}
+    for key, value in data.items():
+        if key != "stable":
+            _say(f"{key:34s} {fmt.get(value, value) if value is None else f'{value:.6g}'}")
+    _say(f"(report Section 4.4: Ke 6.7 V/in, Kp > 0.0035 V/psi, break-away Ke 39.3 / "
+                  f"Kp 0.0006; model optimum K_p differs from the printed 0.001, see docs/errata.md)")

@@ -137,7 +137,8 @@ class PoleSweep:
         return [Mode(lbl, complex(pl)) for lbl, pl in zip(self.labels, self.poles[index])]
 
 
-def sweep(p: TableParameters, name: str, values, delay: str = "first-order") -> PoleSweep:
+def sweep(p: TableParameters, name: str, values, delay: str = "first-order",
+          steps: int = 4) -> PoleSweep:
     """Track the labelled poles while ``name`` takes ``values`` (others as in ``p``).
 
     Parameters
@@ -147,6 +148,8 @@ def sweep(p: TableParameters, name: str, values, delay: str = "first-order") -> 
     values : array_like
         Increasing values in internal units ([V/in], [V/psi], [s]).
     delay : {"none", "first-order"}
+    steps : int
+        Continuation steps between consecutive values (more = safer tracking).
     """
     if name not in SWEEPABLE:
         raise ConfigError("sweep", "one of " + ", ".join(SWEEPABLE), name)
@@ -157,7 +160,7 @@ def sweep(p: TableParameters, name: str, values, delay: str = "first-order") -> 
     poles = np.array([m.pole for m in labelled_poles(start, delay)])
     rows = [poles]
     for a, b in zip(values[:-1], values[1:]):
-        poles = _continue(p.replace(**{name: float(a)}), poles, name, float(b), delay, steps=4)
+        poles = _continue(p.replace(**{name: float(a)}), poles, name, float(b), delay, steps=steps)
         rows.append(poles)
     return PoleSweep(name, values, np.array(rows))
 

@@ -1,0 +1,101 @@
+"""Figures of the shake-table model (report Figures 4.5-4.11): Bode plots and root loci.
+
+Uses matplotlib's Agg backend; every function writes a PNG to a temporary
+name and renames it, so a failed plot never leaves a half-written file.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from ..errors import ConfigError  # noqa: E402
+from ..plant import LinearTable, TableParameters  # noqa: E402
+from ..plant.tuning import sweep  # noqa: E402
+
+#: The six transfer functions of Eq 4-15, with axis labels.
+SIX_TFS = (("z", "u", "z/u [in/s^2 / in]"), ("x", "u", "x/u [in/in]"), ("dp", "u", "dP/u [psi/in]"),
+           ("z", "w", "z/w [in/s^2 / lbf]"), ("x", "w", "x/w [in/lbf]"), ("dp", "w", "dP/w [psi/lbf]"))
+#: Default sweep ranges for root loci (internal units).
+LOCUS_RANGE = {"Ke": 45.0, "Kp": 0.004, "loop_time": 2e-3}
+
+
+def _save(fig, path: Path) -> Path:
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}.png")
+    try:
+        fig.savefig(tmp, dpi=110)
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
+def bode_figure(p: TableParameters, delay: str = "first-order", fmin: float = 0.1,
+                fmax: float = 200.0):
+    """Figure with magnitude and phase of the six TFs (frequencies [Hz])."""
+    if not (0 < fmin < fmax):
+        raise ConfigError("fmin/fmax", "0 < fmin < fmax [Hz]", (fmin, fmax))
+    tbl = LinearTable(p, delay=delay)
+    f = np.geomspace(fmin, fmax, 400)
+    fig, axes = plt.subplots(4, 3, figsize=(13, 10), sharex=True)
+    for k, (out, inp, label) in enumerate(SIX_TFS):
+        if delay == "sampled":
+            h = tbl.sampled().frequency_response(out, inp, f)
+        else:
+            h = tbl.state_space().frequency_response(out, inp, f)
+        row, col = 2 * (k // 3), k % 3
+        axes[row, col].loglog(f, np.abs(h))
+        axes[row, col].set_title(label, fontsize=9)
+        axes[row + 1, col].semilogx(f, np.degrees(np.unwrap(np.angle(h))))
+        axes[row + 1, col].set_ylabel("phase [deg]", fontsize=8)
+    for ax in axes[-1]:
+        ax.set_xlabel("frequency [Hz]")
+    fig.suptitle(f"Shake-table transfer functions (Eq 4-15), Ke={p.Ke:g} V/in, Kp={p.Kp:g} V/psi, "
+                 f"loop time {p.loop_time * 1e6:g} us, delay: {delay}", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def save_bode(p: TableParameters, path: Path, delay: str = "first-order", fmin: float = 0.1,
+              fmax: float = 200.0) -> Path:
+    """Write :func:`bode_figure` to ``path`` (PNG)."""
+    return _save(bode_figure(p, delay, fmin, fmax), path)
+
+
+def root_locus_figure(p: TableParameters, name: str, upper: float | None = None, points: int = 60):
+    """Root locus of the labelled poles p1..p5 for ``name`` in [0, upper] (Figures 4.7, 4.9, 4.11)."""
+    if name not in LOCUS_RANGE:
+        raise ConfigError("param", "one of " + ", ".join(LOCUS_RANGE), name)
+    upper = LOCUS_RANGE[name] if upper is None else upper
+    if not upper > 0:
+        raise ConfigError("max", "a positive upper value", upper)
+    delay = "first-order" if name == "loop_time" else "none"
+    base = p if name == "loop_time" else p.replace(loop_time=0.0)
+    if name == "Ke":
+        base = base.replace(Kp=0.0)
+    sw = sweep(base, name, np.linspace(0.0, upper, points), delay, steps=2)
+    fig, ax = plt.subplots(figsize=(7, 6))
+    for j, label in enumerate(sw.labels):
+        ax.plot(sw.poles[:, j].real, sw.poles[:, j].imag / (2 * np.pi), label=label)
+        ax.plot(sw.poles[0, j].real, sw.poles[0, j].imag / (2 * np.pi), "kx")
+    ax.axvline(0.0, color="k", lw=0.8)
+    ax.set_xlabel("real part [rad/s]")
+    ax.set_ylabel("imaginary part / 2 pi [Hz]")
+    ax.set_title(f"Root locus, {name} from 0 to {upper:g} (delay: {delay})", fontsize=10)
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def save_root_locus(p: TableParameters, name: str, path: Path, upper: float | None = None) -> Path:
+    """Write :func:`root_locus_figure` to ``path`` (PNG)."""
+    return _save(root_locus_figure(p, name, upper), path)

@@ -1,0 +1,118 @@
+"""`imil table ...` and `imil demo`: contracts, units at the edge, one-line errors."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from impedance_mil.cli.main import app
+from impedance_mil.plant import LinearTable, TableParameters, default_table_path
+
+IMIL = Path(sys.executable).parent / "imil"
+runner = CliRunner()
+
+
+def _json(args):
+    res = runner.invoke(app, args)
+    assert res.exit_code == 0, res.output
+    return json.loads(res.stdout)
+
+
+def test_poles_json_contract():
+    data = _json(["table", "poles", "--json", "--delay", "none"])
+    rows = data["poles"]
+    assert len(rows) == 5 and data["stable"] is True
+    for row in rows:
+        assert {"frequency_hz", "damping", "real", "imag"} <= set(row)
+    # Table 4.3, K_p = 0.001, tau = 0: oil column 55 Hz, zeta 0.26 (+-1 Hz, +-0.01).
+    oil = [r for r in rows if r["label"] == "p4"][0]
+    assert oil["frequency_hz"] == pytest.approx(55, abs=1) and oil["damping"] == pytest.approx(0.26, abs=0.01)
+    key = lambda q: (round(q.real, 6), q.imag)  # noqa: E731
+    got = sorted((complex(r["real"], r["imag"]) for r in rows), key=key)
+    ref = sorted(LinearTable(TableParameters.report_default(), delay="none").poles(), key=key)
+    np.testing.assert_allclose(np.array(got, complex), np.array(ref, complex), rtol=1e-12)
+
+
+def test_tf_json_contract_and_set_with_units():
+    data = _json(["table", "tf", "--input", "u", "--output", "x", "--json", "--set", "Ke=0.2 V/mm"])
+    assert data["den"][0] == 1.0
+    H = LinearTable(TableParameters.report_default().replace(Ke=0.2 * 25.4)).tf("x", "u")
+    np.testing.assert_allclose(data["num"], H.num, rtol=1e-12)
+    np.testing.assert_allclose(data["den"], H.den, rtol=1e-12)
+    dw = _json(["table", "tf", "--input", "w", "--output", "dp", "--json"])
+    assert dw["num"][-1] < 0  # the table resists the test-article force
+    sampled = _json(["table", "tf", "--delay", "sampled", "--json"])
+    assert sampled["variable"] == "z" and sampled["dt"] == pytest.approx(500e-6)
+
+
+def test_unstable_is_reported_not_an_error():
+    data = _json(["table", "poles", "--json", "--set", "Ke=8", "--set", "Kp=0", "--delay", "none"])
+    assert data["stable"] is False
+
+
+def test_info_table_file_and_tune(tmp_path):
+    f = tmp_path / "t.toml"
+    f.write_text(default_table_path().read_text()
+                 .replace('mass = "4.14 lbf*s**2/in"', 'mass = "1600 lb"'))
+    info = _json(["table", "info", "--table", str(f), "--json"])
+    assert info["parameters"]["mass"] == pytest.approx(4.144, abs=0.001)
+    tune = _json(["table", "tune", "--json", "--set", "loop_time=0"])
+    assert tune["Ke_limit_analog_Kp0"] == pytest.approx(6.7, abs=0.05)      # Section 4.4.2
+    assert tune["Kp_breakaway_analog"] == pytest.approx(0.0006, abs=0.00005)  # Section 4.4.3
+    assert tune["Kp_limit"] == pytest.approx(0.0039, abs=0.00005)           # errata (0.0035)
+
+
+def test_plots_are_written(tmp_path):
+    res = runner.invoke(app, ["table", "bode", "-o", str(tmp_path / "b.png")])
+    assert res.exit_code == 0, res.output
+    res = runner.invoke(app, ["table", "rlocus", "--param", "Ke", "--max", "10", "-o",
+                              str(tmp_path / "r.png")])
+    assert res.exit_code == 0, res.output
+    for name in ("b.png", "r.png"):
+        assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.png", "r.png"]  # no temporaries
+
+
+BAD = [
+    (["--set", "mass=-4"], "mass"),
+    (["--set", "piston_area=0"], "piston_area"),
+    (["--set", "Kv=nan"], "Kv"),
+    (["--set", "bogus=1"], "bogus"),
+    (["--set", "loop_time=3 psi"], "loop_time"),
+    (["--table", "/nonexistent/table.toml"], "table.toml"),
+]
+
+
+@pytest.mark.parametrize("args, key", [BAD[0], BAD[5]])
+def test_bad_input_one_line_exit_2_subprocess(args, key):
+    res = subprocess.run([str(IMIL), "table", "poles", *args], capture_output=True, text=True,
+                         timeout=60)
+    assert res.returncode == 2
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0] and "Traceback" not in res.stderr
+    assert res.stdout == ""
+
+
+@pytest.mark.parametrize("args, key", BAD[1:5])
+def test_bad_input_names_the_key(args, key):
+    # The library raises ConfigError naming the key; main.run() prints it on one line (above).
+    with pytest.raises(Exception, match=key):
+        runner.invoke(app, ["table", "poles", *args], catch_exceptions=False)
+
+
+def test_bad_choices_direct():
+    with pytest.raises(Exception, match="output"):
+        runner.invoke(app, ["table", "tf", "--output", "q"], catch_exceptions=False)
+    with pytest.raises(Exception, match="delay"):
+        runner.invoke(app, ["table", "poles", "--delay", "exact"], catch_exceptions=False)
+
+
+def test_demo_writes_plots(tmp_path):
+    res = runner.invoke(app, ["demo", "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    assert "stable: yes" in res.stdout
+    assert {p.name for p in tmp_path.glob("*.png")} >= {"table_bode.png", "table_rlocus_Ke.png"}
