@@ -121,7 +121,8 @@ def rk3_step_python(derivative, x: np.ndarray, dt: float) -> np.ndarray:
     return x + dt * (RK3_B1 * k1 + RK3_B2 * k2 + RK3_B3 * k3)
 
 
-def _inputs(a_g, w, n: Optional[int] = None) -> tuple[np.ndarray, np.ndarray]:
+def _inputs(a_g, w) -> tuple[np.ndarray, np.ndarray]:
+    """Input histories as contiguous float64 arrays (w broadcast, zeros when None)."""
     a = np.ascontiguousarray(a_g, dtype=float).reshape(-1)
     if w is None:
         ww = np.zeros_like(a)

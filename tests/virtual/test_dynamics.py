@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
+from impedance_mil.units import G0
 from impedance_mil.virtual import presets
+from impedance_mil.virtual.excitation import harmonic_ground_motion, rigid_article_response
 from impedance_mil.virtual.reference import reference_states
 
 HOLD = 0.01  # s, inputs piecewise constant on this grid
@@ -130,3 +132,18 @@ def test_bouc_wen_variable_is_bounded(n):
     h = (r.force - vs.k_s * r.displacement - vs.c * r.velocity) / vs.q_d
     assert np.abs(h).max() <= 1.0 + 1e-6
     assert np.abs(h).max() > 0.9  # the loop yields, so the bound is tested
+
+
+@pytest.mark.parametrize("name", ["SD1", "LR2", "FP2"])
+def test_rigid_article_closes_the_loop_exactly(name):
+    """With a rigid article (w = -m_a z_vs) the original basemat still obeys m_vs z = w - F.
+
+    The FP keeps its axial load W (the article's weight moves from w_ps into m_vs).
+    """
+    vs = presets.get(name)
+    m_a = 3600.0 / G0
+    r = rigid_article_response(vs, harmonic_ground_motion(0.3 * G0, 1.0, 2.0, 0.001), 0.001, m_a)
+    np.testing.assert_allclose(r.w, -m_a * r.z_vs, rtol=1e-15)
+    np.testing.assert_allclose(vs.m_vs * r.z_vs, r.w - r.force, rtol=0, atol=1e-9 * np.abs(r.force).max())
+    if name == "FP2":
+        assert vs.with_rigid_article(m_a).W == pytest.approx(vs.W, rel=1e-12)
