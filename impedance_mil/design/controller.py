@@ -251,9 +251,12 @@ def design_controller(table: TableModel, vs: Optional[VirtualModel] = None, *,
 
     Examples
     --------
-    >>> d = design_controller(table, form="standardized", fc_hz=80.0)  # doctest: +SKIP
-    >>> d.H_uw.is_proper
-    True
+    >>> from impedance_mil.plant import TableParameters
+    >>> from impedance_mil.design import table_model
+    >>> d = design_controller(table_model(TableParameters.report_default()), fc_hz=80.0,
+    ...                       emit_warnings=False)
+    >>> d.H_uw.is_proper, d.filter.order_w
+    (True, 3)
     """
     if form not in FORMS:
         raise ConfigError("form", "one of " + ", ".join(FORMS), form)
@@ -282,6 +285,13 @@ def design_controller(table: TableModel, vs: Optional[VirtualModel] = None, *,
         ct = controlled_table(table, env, p.H_uz, p.H_uw, form)
         results.append(evaluate_constraints(table, env, ct, fc, c))
     notes += _warnings_for(table, fc_hz, fc_w_hz, results, vs is None and form == "standardized")
+    if form == "tracking" or vs is None:
+        notes.append("tracking: the target impedance is zero (a lossless, rigid environment), so constraint I "
+                     "is measured against the bare table and the passivity verdict III of the small residual "
+                     "impedance is not a stability criterion; see docs/design.md, Limitations")
+    elif vs.H_zfh is not None:
+        notes.append(f"{vs.kind}: constraints are evaluated on the VS linear part with f_h as an open input "
+                     "(initial stiffness, no hysteretic damping): conservative; see docs/design.md, Limitations")
     design = ControllerDesign(
         form=form, reference=ideal.reference, fc_hz=float(fc_hz), filter=paths.spec,
         loop_time_s=float(table.loop_time_s), H_uz=paths.H_uz, H_uw=paths.H_uw, H_ufh=paths.H_ufh,

@@ -48,7 +48,7 @@ class LowpassFilter:
     Examples
     --------
     >>> F = LowpassFilter("butterworth", 3, 80.0).tf()   # Eq 6-10
-    >>> round(F.den[-1] / 1e8, 2)
+    >>> round(float(F.den[-1]) / 1e8, 2)
     1.27
     """
 
