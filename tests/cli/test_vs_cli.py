@@ -91,3 +91,15 @@ def test_loops_bad_input_writes_nothing(monkeypatch, capsys, tmp_path):
     code, _, err = _imil(monkeypatch, capsys, "loops", "LR2", "-o", str(tmp_path / "loops.xyz"))
     assert code == 2 and "-o" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_loops_recorded_motion(monkeypatch, capsys, tmp_path):
+    """A built-in record (signals package) held over sub-steps no longer than --dt."""
+    target = tmp_path / "elcentro.svg"
+    code, out, _ = _imil(monkeypatch, capsys, "loops", "SD2", "--motion", "elcentro", "--pga", "0.2",
+                         "-o", str(target), "--json", "--dt", "0.001")
+    assert code == 0 and target.exists()
+    summary = json.loads(out)
+    assert summary["dt"] <= 0.001
+    # SD2 with the article: peak z_vs is of the order of the PGA (0.2 g = 77 in/s^2)
+    assert 20.0 < summary["systems"][0]["peak_z_vs"] < 200.0
