@@ -1,0 +1,249 @@
+"""Virtual experiments of the report: frequency response (4.5), tracking (8), MIL (9).
+
+Each function builds the nonlinear virtual table from the linear model's
+parameters (:meth:`NonlinearTable.from_linear`, unless a table is given),
+runs the compiled loop and returns a named result; the CLI and the HTML
+report call these.
+
+* :func:`run_frf`: multisine command (Section 4.5.2) through the table (bare
+  or with a specimen), H1 FRFs of ``z``, ``x``, ``dP`` (and ``w``), the linear
+  model's prediction (Eq 4-15; with a specimen, ``H_zu + H_zw W/U`` from the
+  measured force, Section 4.5.4) and the identified parameters.
+* :func:`kp_study`: :func:`run_frf` over K_p values and the misfit of the
+  identified linear model at each (Sections 4.5.3.1, 8.3.3).
+* :func:`run_tracking`: ``z_vs = a_g`` with the tracking controller (Eq 1-6).
+* :func:`run_mil`: a virtual isolation system with the standardized controller.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..design import design_controller, table_model, virtual_model
+from ..errors import ConfigError
+from ..implement import MILRuntime, discretize
+from ..plant import TableParameters
+from ..plant.nonlinear import NonlinearTable
+from ..signals.frf import FRF, estimate_frf
+from ..signals.multisine import Multisine, design_multisine
+from .identification import TableIdentification, identify_table, model_response
+from .loop import simulate
+from .metrics import RunMetrics, evaluate_run
+from .results import RunResult
+
+#: Measured channels whose FRF against u is estimated, by model output name.
+FRF_CHANNELS = {"z": "z_meas", "x": "x_meas", "dp": "dp_meas"}
+
+
+@dataclass(frozen=True, eq=False)
+class FrfExperiment:
+    """Outcome of :func:`run_frf`.
+
+    Attributes
+    ----------
+    run : RunResult
+        The multisine run.
+    multisine : Multisine
+        The command.
+    frf : dict of str to FRF
+        Measured ``z/u`` [in/s^2/in], ``x/u`` [-], ``dp/u`` [psi/in] (and ``w/u`` [lbf/in]).
+    model : dict of str to ndarray
+        Linear-model prediction at the same lines (complex).
+    identification : TableIdentification or None
+        Parameters identified from ``z/u`` (bare table only).
+    params : TableParameters
+        Linear-model parameters the virtual table was built from.
+    delay : str
+        Delay treatment of the linear model compared.
+    """
+
+    run: RunResult
+    multisine: Multisine
+    frf: dict
+    model: dict
+    identification: TableIdentification | None
+    params: TableParameters
+    delay: str
+
+    def model_error(self, output: str = "z", band_hz=(0.25, 100.0)) -> float:
+        """RMS ``|log(H_model/H_meas)|`` over a band [Hz] (0.01 ~ 1 % / 0.6 deg)."""
+        f = self.frf[output].frequency_hz
+        keep = (f >= band_hz[0]) & (f <= band_hz[1])
+        r = np.log(self.model[output][keep] / self.frf[output].response[keep])
+        return float(np.sqrt(np.mean(r.real ** 2 + np.angle(np.exp(1j * r.imag)) ** 2)))
+
+
+@dataclass(frozen=True, eq=False)
+class KpStudy:
+    """Identification misfit of the linear model for several K_p [V/psi]."""
+
+    kp: tuple
+    experiments: tuple
+
+    @property
+    def misfit(self) -> np.ndarray:
+        """``rms_log_error`` of the identified model at each K_p."""
+        return np.array([e.identification.rms_log_error for e in self.experiments])
+
+
+@dataclass(frozen=True, eq=False)
+class ControlledRun:
+    """Outcome of :func:`run_tracking` or :func:`run_mil`.
+
+    Attributes
+    ----------
+    run : RunResult
+        All channels (``z_vs`` is the target).
+    metrics : RunMetrics or None
+        Errors against the target (None if the run tripped before 1 s).
+    design : ControllerDesign
+        The controller designed for the run.
+    motion : GroundMotion
+        The input motion at the loop rate.
+    """
+
+    run: RunResult
+    metrics: RunMetrics | None
+    design: object
+    motion: object
+    extra: dict = field(default_factory=dict)
+
+
+def _table(params, table, kp):
+    if table is None:
+        table = NonlinearTable.from_linear(params)
+    return table if kp is None else table.with_gains(Kp=kp)
+
+
+def run_frf(params: TableParameters, *, multisine: Multisine | None = None, specimen=None,
+            table: NonlinearTable | None = None, kp: float | None = None,
+            delay: str = "first-order", identify: bool = True,
+            free=("f_oil_hz", "zeta_oil", "d"), f_range_hz=(0.25, 100.0), sensors=None,
+            seed: int = 0, substeps: int = 2, limits=None, quantize: bool = True
+            ) -> FrfExperiment:
+    """Frequency-response experiment of Section 4.5 on the virtual table.
+
+    Parameters
+    ----------
+    params : TableParameters
+        Linear-model parameters (the virtual table is derived from them).
+    multisine : Multisine, optional
+        Command; default the report's (512 lines, 0.25-125 Hz, 3 x 8192
+        points at the loop rate) with 0.1 in peak.
+    specimen : object, optional
+        Test article (Section 4.5.4); ``None`` for the bare table (4.5.3).
+    table : NonlinearTable, optional
+        Use this virtual table instead of ``from_linear(params)``.
+    kp : float, optional
+        Override K_p [V/psi] of the virtual table (and of the model).
+    delay : str
+        Delay treatment of the compared linear model (report: first-order).
+    identify : bool
+        Fit ``free`` parameters to the measured ``z/u`` (bare table only).
+    f_range_hz : (float, float)
+        Band of the identification [Hz].
+    sensors, seed, substeps, limits, quantize
+        As :func:`impedance_mil.lab.loop.simulate`.
+    """
+    vt = _table(params, table, kp)
+    p = params if kp is None else params.replace(Kp=kp)
+    ms = multisine or design_multisine(peak=0.1, sample_rate_hz=1.0 / vt.loop_time)
+    if not np.isclose(ms.sample_rate_hz * vt.loop_time, 1.0):
+        raise ConfigError("multisine.sample_rate_hz", f"the loop rate {1 / vt.loop_time:g} Hz",
+                          ms.sample_rate_hz)
+    run = simulate(vt, command=ms.signal, specimen=specimen, sensors=sensors, seed=seed,
+                   substeps=substeps, limits=limits, quantize=quantize,
+                   config={"experiment": "frf"})
+    run.raise_if_tripped()
+    est = {name: estimate_frf(run.u, run.channels[ch], ms.n_points, ms.sample_rate_hz,
+                              lines=ms.lines) for name, ch in FRF_CHANNELS.items()}
+    f = est["z"].frequency_hz
+    model = {name: model_response(p, name, f, delay) for name in FRF_CHANNELS}
+    if specimen is not None:
+        est["w"] = estimate_frf(run.u, run.w_lc, ms.n_points, ms.sample_rate_hz, lines=ms.lines)
+        ratio = est["w"].response
+        for name in FRF_CHANNELS:
+            model[name] = model[name] + model_response(p, name, f, delay, input="w") * ratio
+    ident = (identify_table(est["z"], p, free=free, delay=delay, f_range_hz=f_range_hz)
+             if identify and specimen is None else None)
+    return FrfExperiment(run, ms, est, model, ident, p, delay)
+
+
+def kp_study(params: TableParameters, kp_values=(0.0002, 0.0006, 0.001, 0.0014), **kwargs
+             ) -> KpStudy:
+    """:func:`run_frf` with identification at each K_p [V/psi] (Sections 4.5.3.1, 8.3.3)."""
+    runs = tuple(run_frf(params, kp=kp, identify=True, **kwargs) for kp in kp_values)
+    return KpStudy(tuple(kp_values), runs)
+
+
+def _runtime(params, design, vs, fc_hz, precision, leak_hz):
+    controller = discretize(design.H_uz, design.H_uw, params.loop_time, fc_hz=fc_hz,
+                            leak_hz=leak_hz)
+    return MILRuntime(controller, vs=vs, precision=precision)
+
+
+def _controlled(params, motion, runtime, design, *, specimen, table, feedback, sensors, seed,
+                substeps, limits, vs, name) -> ControlledRun:
+    gm = motion.resampled(params.loop_time)
+    vt = _table(params, table, None)
+    run = simulate(vt, a_g=gm.accel, runtime=runtime, specimen=specimen, feedback=feedback,
+                   sensors=sensors, seed=seed, substeps=substeps, limits=limits,
+                   config={"experiment": name, "motion": getattr(gm, "name", repr(gm)),
+                           "fc_hz": design.fc_hz})
+    metrics = None
+    if run.n_samples * params.loop_time >= 1.0:
+        metrics = evaluate_run(run, vs=vs, ground_displacement=gm.displacement())
+    return ControlledRun(run, metrics, design, gm)
+
+
+def run_tracking(params: TableParameters, motion, *, specimen=None, fc_hz: float = 80.0,
+                 feedback: str = "lc", compensate: bool = True, table=None,
+                 precision: str = "single", leak_hz: float | None = None, sensors=None,
+                 seed: int = 0, substeps: int = 2, limits=None) -> ControlledRun:
+    """Acceleration tracking, ``z_vs = a_g`` (Section 8, Eq 1-6).
+
+    Parameters
+    ----------
+    params : TableParameters
+        Table model used for the design and to derive the virtual table.
+    motion : GroundMotion
+        Input motion (resampled to the loop time) [in/s^2].
+    specimen : object, optional
+        Test article on the table.
+    fc_hz : float
+        Filter cut-off [Hz] (report: 80 Hz).
+    feedback : {"lc", "fe"}
+        Source of w (Section 8.3.2).
+    compensate : bool
+        Include ``u_w`` (``False``: the third column of Figures 8.8-8.9).
+    table, precision, leak_hz, sensors, seed, substeps, limits
+        Virtual table override, controller arithmetic, drift leak [Hz], and
+        :func:`~impedance_mil.lab.loop.simulate` options.
+    """
+    design = design_controller(table_model(params), form="tracking", fc_hz=fc_hz,
+                               emit_warnings=False)
+    runtime = _runtime(params, design, None, fc_hz, precision, leak_hz)
+    if not compensate:
+        runtime.m_w[...] = 0
+    return _controlled(params, motion, runtime, design, specimen=specimen, table=table,
+                       feedback=feedback, sensors=sensors, seed=seed, substeps=substeps,
+                       limits=limits, vs=None, name="tracking")
+
+
+def run_mil(params: TableParameters, vs, motion, *, specimen=None, fc_hz: float = 80.0,
+            feedback: str = "lc", table=None, precision: str = "single",
+            leak_hz: float | None = None, sensors=None, seed: int = 0, substeps: int = 2,
+            limits=None) -> ControlledRun:
+    """MIL run imitating the virtual system ``vs`` (Section 9; standardized controller).
+
+    Parameters are those of :func:`run_tracking`, plus ``vs``, a built-in
+    :class:`~impedance_mil.virtual.base.VirtualSystem` (``presets.get("SD2")``).
+    """
+    design = design_controller(table_model(params), virtual_model(vs), form="standardized",
+                               fc_hz=fc_hz, emit_warnings=False)
+    runtime = _runtime(params, design, vs, fc_hz, precision, leak_hz)
+    return _controlled(params, motion, runtime, design, specimen=specimen, table=table,
+                       feedback=feedback, sensors=sensors, seed=seed, substeps=substeps,
+                       limits=limits, vs=vs, name="mil")
