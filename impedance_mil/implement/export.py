@@ -1,0 +1,165 @@
+"""Export a design: discretize it and write C, ST, JSON or CSV into a directory, atomically.
+
+Files for prefix ``P``: ``c`` -> ``P.h``, ``P.c``; ``st`` -> ``P.st``; ``json`` ->
+``P_coefficients.json``; ``csv`` -> ``P_coefficients.csv``.  Everything is
+written into a temporary directory beside the target and renamed into place,
+so a failure leaves no partial output directory behind.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import shutil
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import __version__ as _pkg_version
+from ..errors import ConfigError
+from .c import render_c
+from .discretize import DiscreteController, discretize
+from .identifiers import check_c_identifier, check_st_identifier
+from .runtime import precision_dtype
+from .st import render_st
+
+#: Export formats.
+FORMATS = ("c", "st", "json", "csv")
+#: Value of the "format" key of the coefficient file.
+COEFF_FORMAT = "impedance-mil/coefficients"
+#: Relative tolerance when comparing a requested loop time with the design's.
+LOOP_TIME_RTOL = 1e-9
+
+
+def controller_from_design(design, *, loop_time_s: float | None = None, method: str = "tustin",
+                           prewarp_hz: float | None = None,
+                           leak_hz: float | None = None) -> DiscreteController:
+    """Discretize a :class:`~impedance_mil.design.ControllerDesign` at its loop time.
+
+    Parameters
+    ----------
+    design : ControllerDesign
+        From :func:`impedance_mil.design.load_design` or ``design_controller``.
+    loop_time_s : float, optional
+        Must equal the design's loop time [s] (the table model depends on it).
+    method, prewarp_hz, leak_hz
+        See :func:`~impedance_mil.implement.discretize`.
+    """
+    if design.H_ufh is not None:
+        raise ConfigError("H_ufh", "a two-input controller (standardized or tracking form); "
+                                   "the f_h path of the vs-specific form is not implemented", "present")
+    if loop_time_s is not None and not math.isclose(loop_time_s, design.loop_time_s,
+                                                    rel_tol=LOOP_TIME_RTOL):
+        raise ConfigError("loop_time_s", f"the design's loop time {design.loop_time_s} s "
+                                         "(the table model was built for it)", loop_time_s)
+    source = {"form": design.form, "reference": design.reference, "fc_hz": design.fc_hz,
+              "filter": design.filter.to_dict(), "software_version": design.software_version,
+              "table": dict(design.table), "vs": design.vs}
+    return discretize(design.H_uz, design.H_uw, design.loop_time_s, method=method,
+                      prewarp_hz=prewarp_hz, fc_hz=design.fc_hz, leak_hz=leak_hz, source=source)
+
+
+def _mat(a: np.ndarray, dtype) -> dict:
+    arr = np.atleast_1d(np.asarray(a, float)).astype(dtype).astype(float)
+    return {"shape": list(np.shape(a)) or [], "data": arr.tolist() if np.ndim(a) else float(arr[0])}
+
+
+def coefficients_document(controller: DiscreteController, precision: str) -> dict[str, Any]:
+    """The coefficient file: matrices with shapes, loop time, precision, units, provenance."""
+    dtype = precision_dtype(precision)
+    units = {"H_uz": ("z_vs", "in/s^2"), "H_uw": ("w", "lbf")}
+    channels = {}
+    for ch in controller.channels:
+        inp, unit = units[ch.name]
+        channels[ch.name] = {
+            "input": inp, "input_unit": unit, "output_unit": "in", "n_states": ch.n_states,
+            "n_integrators": ch.n_integrators,
+            "A": _mat(ch.A, dtype), "B": _mat(ch.B, dtype), "C": _mat(ch.C, dtype),
+            "D": _mat(ch.D, dtype), "A_minus_I": _mat(ch.A - np.eye(ch.n_states), dtype),
+            "sections": [s.form for s in ch.sections],
+            "continuous": ch.continuous.to_dict(),
+        }
+    return {"format": COEFF_FORMAT, "version": 1, "software_version": _pkg_version,
+            "loop_time_s": controller.loop_time_s, "precision": precision,
+            "method": controller.method, "prewarp_hz": controller.prewarp_hz,
+            "fc_hz": controller.fc_hz, "leak_hz": controller.leak_hz,
+            "realization": controller.realization,
+            "sign_convention": "u = H_uz*z_vs + H_uw*w",
+            "state_update": "x[k+1] = x[k] + ((A - I) x[k] + B v[k]) (compensated summation); "
+                            "y[k] = C x[k] + D v[k]",
+            "units": {"z_vs": "in/s^2", "w": "lbf", "u": "in", "loop_time_s": "s", "frequencies": "Hz"},
+            "channels": channels, "design": controller.source}
+
+
+def coefficients_csv(controller: DiscreteController, precision: str) -> str:
+    """CSV ``channel,matrix,row,col,value`` after ``#`` header lines (loop time, units ...)."""
+    doc = coefficients_document(controller, precision)
+    buf = io.StringIO()
+    for key in ("format", "software_version", "loop_time_s", "precision", "method", "fc_hz",
+                "leak_hz", "sign_convention", "state_update"):
+        buf.write(f"# {key}: {doc[key]}\n")
+    buf.write("# units: z_vs in/s^2, w lbf, u in\n")
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(["channel", "matrix", "row", "col", "value"])
+    for name, ch in doc["channels"].items():
+        for mname in ("A", "B", "C", "D"):
+            data = np.atleast_2d(np.asarray(ch[mname]["data"], float))
+            if mname == "B":
+                data = data.T
+            for (i, j), v in np.ndenumerate(data):
+                writer.writerow([name, mname, i, j, repr(float(v))])
+    return buf.getvalue()
+
+
+def render(controller: DiscreteController, fmt: str, precision: str = "single",
+           prefix: str = "imil", vs=None, design_summary: str = "") -> dict[str, str]:
+    """``{file name: text}`` of one export format (no file is written)."""
+    if fmt not in FORMATS:
+        raise ConfigError("--format", "one of " + ", ".join(FORMATS), fmt)
+    precision_dtype(precision)
+    if fmt == "c":
+        return render_c(controller, precision, prefix, vs=vs, design_summary=design_summary).files
+    if fmt == "st":
+        return render_st(controller, precision, prefix, vs=vs, design_summary=design_summary)
+    check_c_identifier(prefix)
+    check_st_identifier(prefix)
+    if fmt == "json":
+        return {f"{prefix}_coefficients.json":
+                json.dumps(coefficients_document(controller, precision), indent=2) + "\n"}
+    return {f"{prefix}_coefficients.csv": coefficients_csv(controller, precision)}
+
+
+def write_directory(files: dict[str, str], out_dir: str | os.PathLike, force: bool = False) -> Path:
+    """Write ``files`` into ``out_dir`` atomically (temp dir beside it, then rename).
+
+    ``out_dir`` must not exist, unless it is empty or ``force`` is set (then
+    it is replaced only after the new directory is complete).
+    """
+    target = Path(out_dir)
+    if not target.parent.is_dir():
+        raise ConfigError("-o", "a directory path inside an existing folder", str(target))
+    exists = target.exists()
+    if exists and not target.is_dir():
+        raise ConfigError("-o", "a directory path (a file of that name exists)", str(target))
+    if exists and any(target.iterdir()) and not force:
+        raise ConfigError("-o", "a new or empty directory (use --force to replace)", str(target))
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+    try:
+        for name, text in files.items():
+            (tmp / name).write_text(text)
+        if exists:
+            old = target.with_name(f".{target.name}.old-{os.getpid()}")
+            target.rename(old)
+            tmp.rename(target)
+            shutil.rmtree(old)
+        else:
+            tmp.rename(target)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp)
+    return target

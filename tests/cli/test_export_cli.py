@@ -1,0 +1,89 @@
+"""`imil export`: formats, one-line errors with exit status 2, no partial output."""
+
+from __future__ import annotations
+
+import json
+import sys
+from types import SimpleNamespace
+
+import pytest
+
+from impedance_mil.cli.main import run
+
+from impedance_mil.design import design_controller, save_design, table_model
+from impedance_mil.plant import TableParameters
+
+
+@pytest.fixture
+def imil(capfd, monkeypatch):
+    """Run the ``imil`` entry point in-process (as the console script does)."""
+    def call(*args, cwd):
+        monkeypatch.chdir(cwd)
+        monkeypatch.setattr(sys, "argv", ["imil", *map(str, args)])
+        code = 0
+        try:
+            run()
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        out, err = capfd.readouterr()
+        return SimpleNamespace(returncode=code, stdout=out, stderr=err)
+    return call
+
+
+@pytest.fixture(scope="module")
+def design_file(tmp_path_factory):
+    d = tmp_path_factory.mktemp("design")
+    design = design_controller(table_model(TableParameters.report_default()), form="standardized",
+                               fc_hz=80.0, emit_warnings=False)
+    return save_design(design, d / "design.json")
+
+
+def test_export_json_and_csv(imil, design_file, tmp_path):
+    r = imil("export", design_file, "--format", "json", "--precision", "double", "-o", "j", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    doc = json.loads((tmp_path / "j" / "imil_coefficients.json").read_text())
+    assert doc["loop_time_s"] == 0.0005 and doc["precision"] == "double"
+    assert doc["channels"]["H_uz"]["A"]["shape"] == [5, 5]
+    assert doc["channels"]["H_uz"]["n_integrators"] == 2 and doc["design"]["form"] == "standardized"
+    r = imil("export", design_file, "--format", "csv", "-o", "c", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    rows = [ln for ln in (tmp_path / "c" / "imil_coefficients.csv").read_text().splitlines()
+            if not ln.startswith("#")]
+    assert rows[0] == "channel,matrix,row,col,value" and len(rows) == 1 + (25 + 5 + 5 + 1) + (9 + 3 + 3 + 1)
+
+
+def test_export_c_and_st_with_vs(imil, design_file, tmp_path):
+    r = imil("export", design_file, "--format", "c", "--vs", "FP2", "--prefix", "rig1", "-o", "c",
+             cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert "rig1_mil_step" in (tmp_path / "c" / "rig1.h").read_text()
+    r = imil("export", design_file, "--format", "st", "--vs", "LR2", "-o", "s", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert "FUNCTION_BLOCK imil_mil" in (tmp_path / "s" / "imil.st").read_text()
+
+
+def _bad(imil, tmp_path, *args):
+    r = imil("export", *args, "-o", "out", cwd=tmp_path)
+    assert r.returncode == 2
+    assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr
+    assert not (tmp_path / "out").exists()
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".out")] == []
+    return r.stderr
+
+
+def test_bad_inputs_one_line_exit_2_nothing_written(imil, design_file, tmp_path):
+    doc = json.loads(design_file.read_text())
+    other = tmp_path / "v9.json"
+    other.write_text(json.dumps({**doc, "version": 9}))
+    assert "version" in _bad(imil, tmp_path, other)
+    missing = tmp_path / "missing.json"
+    missing.write_text(json.dumps({k: v for k, v in doc.items() if k != "H_uz"}))
+    assert "H_uz" in _bad(imil, tmp_path, missing)
+    assert "loop_time_s" in _bad(imil, tmp_path, design_file, "--loop-time", "0.001")
+    assert "prefix" in _bad(imil, tmp_path, design_file, "--prefix", "static")
+    assert "prefix" in _bad(imil, tmp_path, design_file, "--format", "st", "--prefix", "VAR")
+    assert "prefix" in _bad(imil, tmp_path, design_file, "--prefix", "9lives")
+    nyq = tmp_path / "nyq.json"
+    nyq.write_text(json.dumps({**doc, "fc_hz": 1000.0}))
+    assert "fc_hz" in _bad(imil, tmp_path, nyq)
+    assert "--format" in _bad(imil, tmp_path, design_file, "--format", "pdf")
