@@ -15,6 +15,8 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from ..errors import ConfigError
+from .labkinds import (FRF_DEFAULTS, FRF_PARAMS, MIL_DEFAULTS, MIL_PARAMS, TRACKING_DEFAULTS,
+                        TRACKING_PARAMS, run_frf_kind, run_mil_kind, run_tracking_kind)
 from .modelkinds import (DESIGN_DEFAULTS, DESIGN_PARAMS, TABLE_POLES_DEFAULTS, TABLE_POLES_PARAMS,
                          run_design, run_table_poles)
 from .params import Param
@@ -57,6 +59,12 @@ KINDS: dict[str, Kind] = {
                         "closed-loop poles of the table model (Section 4.4 tuning)"),
     "design": Kind("design", run_design, DESIGN_PARAMS, DESIGN_DEFAULTS,
                    "MIL controller design and constraints I-III (Sections 6, 9.4)"),
+    "frf": Kind("frf", run_frf_kind, FRF_PARAMS, FRF_DEFAULTS,
+                "multisine identification of the virtual table (Section 4.5)"),
+    "tracking": Kind("tracking", run_tracking_kind, TRACKING_PARAMS, TRACKING_DEFAULTS,
+                     "acceleration tracking on the virtual table (Section 8)"),
+    "mil": Kind("mil", run_mil_kind, MIL_PARAMS, MIL_DEFAULTS,
+                "MIL with a virtual isolation system (Section 9)"),
 }
 
 

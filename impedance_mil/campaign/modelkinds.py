@@ -57,11 +57,17 @@ def table_parameters(config: dict[str, Any]) -> TableParameters:
 
 
 def virtual_system(config: dict[str, Any], table_mass: float):
-    """The VS preset of a run configuration, with ``m_vs = m_vs_ratio * m_st`` when given."""
+    """The VS preset of a run configuration.
+
+    Its basemat mass is ``m_vs_ratio * m_st`` when the ratio is given, else
+    ``m_vs`` [lbf*s^2/in] when given, else the preset's (Tables 9.1-9.3).
+    """
     vs = config["vs"]
-    ratio = vs.get("m_vs_ratio")
-    overrides = {} if ratio is None else {"m_vs": float(ratio) * table_mass}
-    return presets.get(vs["preset"], **overrides)
+    if vs.get("m_vs_ratio") is not None:
+        return presets.get(vs["preset"], m_vs=float(vs["m_vs_ratio"]) * table_mass)
+    if vs.get("m_vs") is not None:
+        return presets.get(vs["preset"], m_vs=float(vs["m_vs"]))
+    return presets.get(vs["preset"])
 
 
 # ---------------------------------------------------------------- table-poles

@@ -65,11 +65,11 @@ def test_mil_band_needs_15_hz_in_most_cases():
 
 
 def test_tracking_kp_compares_the_mean_over_motions():
-    rows = [{"K_p": kp, "motion": gm, "spectral_error_20hz": err}
+    rows = [{"K_p": kp, "motion": gm, "spectral_error_low": err}
             for kp, err in ((0.0002, 0.6), (0.001, 0.1)) for gm in ("GM1", "GM2")]
     assert verdict("sec8-kp", [table("kp", rows)]).verdict == AGREE
     for row in rows:
-        row["spectral_error_20hz"] = 0.1 if row["K_p"] == 0.0002 else 0.6
+        row["spectral_error_low"] = 0.1 if row["K_p"] == 0.0002 else 0.6
     assert verdict("sec8-kp", [table("kp", rows)]).verdict == DISAGREE
 
 

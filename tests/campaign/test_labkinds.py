@@ -1,0 +1,82 @@
+"""The virtual-lab kinds through the engine: metrics, HDF5 files, aborts, motions."""
+
+from __future__ import annotations
+
+import pytest
+
+from impedance_mil.campaign import InlineExecutor, load_campaign, run_campaign
+from impedance_mil.campaign.motions import REPORT_MOTIONS, find_peer_file, report_motion
+from impedance_mil.lab.results import load_run
+from impedance_mil.units import G0
+
+LAB = """
+[campaign]
+name = "lab"
+kind = "mil"
+[base]
+duration = "3 s"
+motion = "GM3"
+[[study]]
+name = "mil"
+product = { vs = ["SD2", "FP2"] }
+[[study]]
+name = "trip"
+set = { vs = "SD2", motion_scale = 8.0 }
+[[study]]
+name = "track"
+kind = "tracking"
+product = { feedback = ["load_cells", "none"] }
+"""
+
+
+@pytest.fixture(scope="module")
+def lab_campaign(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("lab")
+    (folder / "lab.toml").write_text(LAB)
+    spec = load_campaign(folder / "lab.toml")
+    return spec, run_campaign(spec, folder / "out", InlineExecutor())
+
+
+def test_mil_and_tracking_runs_record_metrics_and_hdf5(lab_campaign):
+    spec, result = lab_campaign
+    by_study = {s: [r for r in result.records if s in r.studies] for s in ("mil", "track")}
+    for record in by_study["mil"] + by_study["track"]:
+        assert record.status == "ok", record.error
+        for key in ("spectral_error_low", "nrms_error", "spectral_agreement_hz", "hf_ratio"):
+            assert key in record.metrics
+        run = load_run(result.root / record.hdf5)
+        # 3 s of motion at the 500 us loop time of Table 4.1; resampling from the record's
+        # 5 ms may keep up to one record step more.
+        assert run.loop_time == pytest.approx(5e-4)
+        assert 3.0 <= run.n_samples * run.loop_time <= 3.0 + 0.005 + 5e-4
+        assert record.metrics["motion_source"] == "substitute built-in elcentro"
+    # The MIL runs use the preset's basemat mass: 2000 lb on a 1600 lb table (Table 9.1).
+    assert by_study["mil"][0].metrics["m_vs_over_m_st"] == pytest.approx(1.25, rel=1e-3)
+
+
+def test_a_tripped_run_is_aborted_with_the_limit_named(lab_campaign):
+    _, result = lab_campaign
+    (trip,) = [r for r in result.records if "trip" in r.studies]
+    # GM3 at 8 x 0.4 g needs far more than the +-3 in stroke of Section 8.2.
+    assert trip.status == "aborted" and "tripped" in trip.error
+    assert trip.metrics["duration_s"] < 3.0
+    assert load_run(result.root / trip.hdf5).trip is not None
+
+
+def test_report_motions_follow_table_8_1():
+    for name, spec in REPORT_MOTIONS.items():
+        motion, _ = report_motion(name, duration_s=5.0)
+        # Table 8.1 PGA up to 1e-9 where the peak falls in the first 5 s of the scaled record.
+        assert motion.pga_g <= spec.pga_scaled_g * (1 + 1e-9)
+        assert motion.duration == pytest.approx(5.0, abs=motion.time_step)
+    gm1, source = report_motion("GM1")
+    # RSN 6 has dt = 0.01 s; the report compresses time by 2.
+    assert gm1.time_step == pytest.approx(0.005) and gm1.pga == pytest.approx(0.8 * G0)
+    assert source == "built-in elcentro"
+
+
+def test_peer_files_are_preferred_when_given(tmp_path):
+    for name in ("RSN864_LANDERS_ABC270.AT2", "RSN864_LANDERS_ABC000.AT2", "RSN864_LANDERS_ABC-UP.AT2"):
+        (tmp_path / name).write_text("")
+    assert find_peer_file(tmp_path, 864).name == "RSN864_LANDERS_ABC000.AT2"
+    assert find_peer_file(tmp_path, 2632) is None
