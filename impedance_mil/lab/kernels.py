@@ -64,21 +64,21 @@ CHANNELS = ("t", "a_g", "z_vs", "u", "u_z", "u_w", "u_v", "current", "x", "v", "
 @njit(cache=True, inline="always")
 def coupled_derivative(pa, y, As, Bs, Cs, Ds, current, out):
     """Derivative of the table + specimen state; returns the table acceleration z [in/s^2]."""
-    n = y.shape[0]
+    m = y.shape[0] - N_TABLE_STATES
     ws = 0.0
-    for i in range(N_TABLE_STATES, n):
-        ws += Cs[i - N_TABLE_STATES] * y[i]
+    for i in range(m):
+        ws += Cs[i] * y[N_TABLE_STATES + i]
     # the table states lead y (table_derivative reads and writes indices 0..5 only)
     z = table_derivative(pa, y, current, ws, Ds, out)
-    for i in range(N_TABLE_STATES, n):
-        acc = Bs[i - N_TABLE_STATES] * z
-        for j in range(N_TABLE_STATES, n):
-            acc += As[i - N_TABLE_STATES, j - N_TABLE_STATES] * y[j]
-        out[i] = acc
+    for i in range(m):
+        acc = Bs[i] * z
+        for j in range(m):
+            acc += As[i, j] * y[N_TABLE_STATES + j]
+        out[N_TABLE_STATES + i] = acc
     return z
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def plant_advance(pa, y, As, Bs, Cs, Ds, current, dt, nsub, work):
     """Advance the plant state ``y`` by ``dt`` [s]: ``nsub`` RK4 steps, valve current held [mA].
 
@@ -102,12 +102,14 @@ def plant_advance(pa, y, As, Bs, Cs, Ds, current, dt, nsub, work):
             y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-@njit(cache=True)
-def plant_sense(pa, y, As, Bs, Cs, Ds, sens, noise_row, readings, out):
+@njit(cache=True, inline="always")
+def plant_sense(pa, y, As, Bs, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, v_low, v_high,
+                lc_weights, chan_idx, q, noise_row, readings, out):
     """Sensor readings at the current state into ``out`` (layout ``SENSE_FIELDS``).
 
-    ``sens`` is the tuple of :func:`impedance_mil.lab.setup.sensor_arrays`
-    (the arrays of a :class:`~impedance_mil.specimens.sensors.SensorSuite`);
+    ``qi ... q`` are the arrays of :func:`impedance_mil.lab.setup.sensor_arrays`
+    (those of a :class:`~impedance_mil.specimens.sensors.SensorSuite`, the
+    index of the z, x and dP channels, and a 5-entry quantity buffer);
     ``readings`` receives every channel's reading.
     """
     ws = 0.0
@@ -116,25 +118,22 @@ def plant_sense(pa, y, As, Bs, Cs, Ds, sens, noise_row, readings, out):
     z = table_acceleration(pa, y, ws, Ds)
     w = ws + Ds * z
     dp = y[IX_P1] - y[IX_P2]
-    q = sens[10]
     q[0] = z
     q[1] = y[IX_X]
     q[2] = dp
     q[3] = pa[PA_AREA] * dp
     q[4] = w
-    measure_kernel(q, noise_row, sens[0], sens[1], sens[2], sens[3], sens[4], sens[5],
-                   sens[6], sens[7], readings)
-    idx = sens[9]
+    measure_kernel(q, noise_row, qi, gain, scale, offset, noise_rms, lsb, v_low, v_high, readings)
     out[M_Z] = z
     out[M_W] = w
-    out[M_X] = readings[idx[1]]
-    out[M_DP] = readings[idx[2]]
-    out[M_ZM] = readings[idx[0]]
-    out[M_WLC] = load_cell_force_kernel(readings, sens[8])
+    out[M_X] = readings[chan_idx[1]]
+    out[M_DP] = readings[chan_idx[2]]
+    out[M_ZM] = readings[chan_idx[0]]
+    out[M_WLC] = load_cell_force_kernel(readings, lc_weights)
     out[M_WFE] = force_from_equilibrium(out[M_ZM], out[M_DP], pa[PA_MASS], pa[PA_AREA])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def check_limits(pa, lim, y, meas, uv, sat_ticks):
     """Safety check of one tick; returns ``(trip code, offending value)`` (code 0: all clear).
 
@@ -201,6 +200,7 @@ def run_loop(mode, feedback, pa, nsub, y, As, Bs, Cs, Ds, sens, noise, lim, a_g,
     """
     n = a_g.shape[0]
     dt = pa[PA_LOOP]
+    qi, gain, scale, offset, noise_rms, lsb, v_low, v_high, lc_w, chan_idx, qbuf = sens
     meas = np.zeros(7)
     readings = np.zeros(noise.shape[1])
     out2 = np.zeros(2, dtype=tmp.dtype)
@@ -212,7 +212,8 @@ def run_loop(mode, feedback, pa, nsub, y, As, Bs, Cs, Ds, sens, noise, lim, a_g,
     status[1] = 0.0
     status[2] = 0.0
     for k in range(n):
-        plant_sense(pa, y, As, Bs, Cs, Ds, sens, noise[k], readings, meas)
+        plant_sense(pa, y, As, Bs, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, v_low, v_high,
+                    lc_w, chan_idx, qbuf, noise[k], readings, meas)
         w_used = meas[M_WLC] if feedback == FEEDBACK_LC else meas[M_WFE]
         code, value = check_limits(pa, lim, y, meas, uv_last, sat)
         if code != 0:

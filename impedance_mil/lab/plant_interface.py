@@ -139,7 +139,7 @@ class VirtualTable:
 
     def _sense(self) -> None:
         noise = self.sensors.draw_noise(self._rng)
-        plant_sense(self._pa, self.y, self._A, self._B, self._C, self._D, self._sens, noise,
+        plant_sense(self._pa, self.y, self._A, self._B, self._C, self._D, *self._sens, noise,
                     self._readings, self._meas)
 
     @property

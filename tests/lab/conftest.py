@@ -2,45 +2,15 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import pytest
 
-try:  # the plant package provides the canonical parameter object
-    from impedance_mil.plant import TableParameters as _TableParameters
-except ImportError:  # pragma: no cover - only until impedance_mil.plant lands
-    _TableParameters = None
+from impedance_mil.plant import TableParameters
 
 
-@dataclass(frozen=True)
-class _Table41:
-    """Report Table 4.1 with d = 1e5 (the text of Section 4.3.5; 3e5 in the table is a misprint)."""
-
-    Ke: float = 5.0
-    Kp: float = 0.001
-    Kv: float = 3.0
-    loop_time: float = 500e-6
-    piston_area: float = 2.1
-    mid_stroke: float = 3.2
-    mass: float = 4.14
-    d: float = 1.0e5
-    valve_poles_hz: tuple = (70.0, 110.0)
-    zeta_oil: float = 0.09
-    f_oil_hz: float = 27.0
-    supply_pressure: float = 3000.0
-    return_pressure: float = 0.0
-    rated_flow: float = 57.75
-    rated_pressure_drop: float = 1000.0
-    rated_current: float = 25.0
-    valve_command_limit: float = 10.0
-
-
-def report_parameters():
-    """Table 4.1 parameters, from ``impedance_mil.plant`` when available."""
-    if _TableParameters is not None:
-        return _TableParameters.report_default()
-    return _Table41()
+def report_parameters() -> TableParameters:
+    """Table 4.1 with d = 1e5 (the text of Section 4.3.5; Table 4.1's 3e5 is a misprint)."""
+    return TableParameters.report_default()
 
 
 @pytest.fixture

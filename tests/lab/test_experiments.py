@@ -13,7 +13,8 @@ import pytest
 import scipy.signal
 
 from impedance_mil.lab.experiments import kp_study, run_frf, run_mil, run_tracking
-from impedance_mil.lab.identification import identify_table, model_response
+from impedance_mil.lab.identification import identify_table
+from impedance_mil.lab.loop import simulate
 from impedance_mil.lab.setup import ideal_sensors
 from impedance_mil.plant import LinearTable
 from impedance_mil.plant.nonlinear import Friction, NonlinearTable
@@ -59,7 +60,6 @@ def test_fast_loop_frf_approaches_continuous_eq_4_14b(p):
     # 0.5 deg at 100 Hz; phase tolerance 1 deg).
     table = NonlinearTable.from_linear(p.replace(loop_time=10e-6), friction=Friction.none())
     ms = _short_multisine(2e-3, rate=1e5, n_points=16384, n_lines=16, f_max=100.0, periods=4)
-    from impedance_mil.lab.loop import simulate
     run = simulate(table, command=ms.signal, sensors=ideal_sensors(), quantize=False, substeps=1)
     frf = estimate_frf(run.u, run.x, ms.n_points, ms.sample_rate_hz, lines=ms.lines)
     A, B_u, _ = eq_4_14b(p)

@@ -166,12 +166,8 @@ def test_bulk_modulus_and_flow_gain_are_physical(table41):
     t0 = NonlinearTable.from_linear(table41, dead_volume=1e-9, friction=Friction.none())
     assert abs(t0.bulk_modulus / 0.9078e5 - 1) < 1e-3
     assert abs(t0.implied_rated_flow / 57.75 - 1) < 0.10
-    t3 = NonlinearTable.from_linear(_with_d(table41, 3e5), dead_volume=1e-9)
+    t3 = NonlinearTable.from_linear(table41.replace(d=3e5), dead_volume=1e-9)
     assert t3.implied_rated_flow / 57.75 > 2.5
-
-
-def _with_d(p, d):
-    return type(p)(**{**{k: getattr(p, k) for k in p.__dataclass_fields__}, "d": d})
 
 
 def test_valve_command_is_limited(table41):
