@@ -16,7 +16,8 @@ from typing import Any, Callable, Mapping
 
 from ..errors import ConfigError
 from .labkinds import (FRF_DEFAULTS, FRF_PARAMS, MIL_DEFAULTS, MIL_PARAMS, TRACKING_DEFAULTS,
-                        TRACKING_PARAMS, run_frf_kind, run_mil_kind, run_tracking_kind)
+                        TRACKING_PARAMS, resolve_motion, run_frf_kind, run_mil_kind,
+                        run_tracking_kind)
 from .modelkinds import (DESIGN_DEFAULTS, DESIGN_PARAMS, TABLE_POLES_DEFAULTS, TABLE_POLES_PARAMS,
                          run_design, run_table_poles)
 from .params import Param
@@ -42,6 +43,11 @@ class Kind:
         The base run configuration before the campaign's settings.
     description : str
         One line for listings.
+    resolve : callable, optional
+        ``resolve(config) -> config`` applied when the campaign is expanded,
+        before the run is named: it writes into the configuration what the
+        run will really use but the campaign does not say (e.g. which record
+        stands for GM2), so that the run name changes when that does.
     """
 
     name: str
@@ -49,6 +55,7 @@ class Kind:
     params: Mapping[str, Param]
     defaults: Mapping[str, Any] = field(default_factory=dict)
     description: str = ""
+    resolve: Callable[[dict[str, Any]], dict[str, Any]] | None = None
 
 
 #: Every campaign kind, by name.
@@ -62,9 +69,9 @@ KINDS: dict[str, Kind] = {
     "frf": Kind("frf", run_frf_kind, FRF_PARAMS, FRF_DEFAULTS,
                 "multisine identification of the virtual table (Section 4.5)"),
     "tracking": Kind("tracking", run_tracking_kind, TRACKING_PARAMS, TRACKING_DEFAULTS,
-                     "acceleration tracking on the virtual table (Section 8)"),
+                     "acceleration tracking on the virtual table (Section 8)", resolve_motion),
     "mil": Kind("mil", run_mil_kind, MIL_PARAMS, MIL_DEFAULTS,
-                "MIL with a virtual isolation system (Section 9)"),
+                "MIL with a virtual isolation system (Section 9)", resolve_motion),
 }
 
 

@@ -21,9 +21,10 @@ import numpy as np
 
 from ..lab.experiments import ControlledRun, run_frf, run_mil, run_tracking
 from ..lab.results import save_run
+from ..signals.multisine import design_multisine
 from ..specimens.vessel import FluidVessel
 from .modelkinds import CONTROLLER_PARAMS, TABLE_PARAMS, VS_PARAMS, table_parameters, virtual_system
-from .motions import REPORT_MOTIONS, report_motion
+from .motions import REPORT_MOTIONS, motion_source, report_motion
 from .params import Param
 from .runmetrics import tracking_metrics
 
@@ -77,6 +78,9 @@ MIL_DEFAULTS: dict[str, Any] = {
     **TRACKING_DEFAULTS, "specimen": {"kind": "vessel", "water_depth": 36.0},
     "vs": {"preset": "SD2", "m_vs_ratio": None, "m_vs": None}}
 
+#: Period of the multisine [s]: 8192 points at 2000 Hz (report Section 4.5.2), kept at any loop time.
+MULTISINE_PERIOD_S = 4.096
+
 #: Bands of the FRF model error [Hz]: the whole multisine band, and the oil-column band of Figure 4.16.
 FRF_BANDS_HZ = {"model_error": (0.25, 100.0), "model_error_10_50hz": (10.0, 50.0)}
 
@@ -89,6 +93,9 @@ def _specimen(config: dict[str, Any]) -> FluidVessel | None:
 def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """Multisine identification of the virtual table (report Section 4.5); see the module docstring.
 
+    The multisine is the report's (512 lines from 0.25 to 125 Hz, 0.1 in peak)
+    with its 4.096 s period kept at every loop time.
+
     Returns
     -------
     dict
@@ -98,7 +105,10 @@ def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """
     params = table_parameters(config)
     specimen = _specimen(config)
-    exp = run_frf(params, specimen=specimen, identify=specimen is None, seed=int(config["seed"]))
+    multisine = design_multisine(peak=0.1, sample_rate_hz=1.0 / params.loop_time,
+                                 n_points=int(round(MULTISINE_PERIOD_S / params.loop_time)))
+    exp = run_frf(params, multisine=multisine, specimen=specimen, identify=specimen is None,
+                  seed=int(config["seed"]))
     save_run(exp.run, out_path)
     with h5py.File(out_path, "a") as fh:
         group = fh.create_group("frf")
@@ -111,6 +121,13 @@ def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
         metrics.update(f_oil_hz=ident["f_oil_hz"], zeta_oil=ident["zeta_oil"],
                        identification_error=ident["rms_log_error"])
     return metrics
+
+
+def resolve_motion(config: dict[str, Any]) -> dict[str, Any]:
+    """Record in ``motion.source`` which record the run will use (hashed into the run name)."""
+    motion = config["motion"]
+    motion["source"] = motion_source(motion["name"], motion.get("motions_dir"))
+    return config
 
 
 def _motion(config: dict[str, Any]):

@@ -210,6 +210,8 @@ def _add_run(runs: dict[str, RunSpec], kind: Kind, defaults: Mapping[str, Any],
     config = deep_merge(defaults, {})
     for key, value in settings.items():
         set_path(config, kind.params[key].path, value)
+    if kind.resolve is not None:
+        config = kind.resolve(config)
     run_id = run_id_for(kind.name, config)
     if run_id in runs:
         old = runs[run_id]

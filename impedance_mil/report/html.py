@@ -259,6 +259,25 @@ class RunView:
                    config=dict(config or {}), status=status)
 
 
+    @classmethod
+    def from_result(cls, result: Any, *, title: str = "", metrics: Mapping[str, Any] | None = None,
+                    m_vs: float | None = None) -> "RunView":
+        """Build a view from a run result (anything with ``channels``, ``config`` and ``trip``).
+
+        Works with :class:`impedance_mil.lab.results.RunResult` (e.g. from
+        ``load_run``) without importing the lab.  The status names the tripped
+        limit, if any; ``m_vs`` [lbf*s^2/in] adds the isolator loop (see
+        :meth:`from_channels`).
+        """
+        trip = getattr(result, "trip", None)
+        status = "completed" if trip is None else (
+            f"stopped: limit '{trip.limit}' tripped at t = {trip.time_s:.4f} s")
+        config = dict(getattr(result, "config", {}) or {})
+        name = title or f"{getattr(result, 'mode', 'run')} run: {config.get('motion', '')}".strip(": ")
+        return cls.from_channels(result.channels, title=name, metrics=metrics, config=config,
+                                 status=status, m_vs=m_vs)
+
+
 def history_figure(view: RunView) -> Figure:
     """Acceleration histories [g] (table, target, input) and the other histories of the run."""
     extra = [(name, values, unit) for name, (values, unit) in view.histories.items()]

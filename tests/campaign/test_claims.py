@@ -43,13 +43,17 @@ def test_table_9_5_pattern():
 
 
 def test_basemat_mass_threshold():
-    def rows(unstable):
+    def rows(unstable, limit="divergence"):
         return [{"vs": "SD2", "m_vs_ratio": r, "status": "aborted" if r in unstable else "ok",
+                 "error": f"limit '{limit}' tripped at t = 1 s" if r in unstable else "",
                  "hf_ratio": 0.1} for r in (1.25, 1.0, 0.9, 0.8, 0.7)]
     assert verdict("sec9-basemat-mass", [table("basemat-mass", rows({0.7}))]).verdict == AGREE
     # Unstable already at 0.9 (as the passivity design check suggests): the report's 0.7 is not reproduced.
     outcome = verdict("sec9-basemat-mass", [table("basemat-mass", rows({0.9, 0.8, 0.7}))])
     assert outcome.verdict == DISAGREE and "unstable at m_vs/m_st = 0.7, 0.8, 0.9" in outcome.measured
+    # A stroke trip alone is inconclusive (the motion may need more than +-3 in).
+    stroke = verdict("sec9-basemat-mass", [table("basemat-mass", rows({0.9, 0.7}, "stroke"))])
+    assert stroke.verdict == DISAGREE and "inconclusive (stroke trip) at 0.7, 0.9" in stroke.measured
     # Strong high-frequency oscillation without a trip also counts as unstable.
     oscillating = rows(set())
     oscillating[-1]["hf_ratio"] = 3.0

@@ -1,0 +1,64 @@
+"""The run page from plain arrays: content, isolator loop, self-containment (no browser needed)."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+from impedance_mil.report.html import RunView, flatten, html_page, render_run_html
+
+
+def _channels(n=4000, dt=0.0005):
+    t = np.arange(n) * dt
+    a_g = np.full(n, 10.0)  # constant 10 in/s^2: x_g = 5 t^2 exactly
+    return {"t": t, "a_g": a_g, "z": a_g.copy(), "z_vs": 0.5 * a_g, "x": 5.0 * t ** 2 + 0.1,
+            "w": 3.0 * a_g}
+
+
+def test_isolator_loop_is_w_minus_m_vs_z_against_x_minus_x_g():
+    # Report Section 9.3: F_exp = w - m_vs z_exp and D_exp = x_exp - x_g.
+    view = RunView.from_channels(_channels(), m_vs=2.0)
+    (loop,) = view.loops
+    assert loop.force == pytest.approx(np.full(4000, 3.0 * 10.0 - 2.0 * 10.0))
+    assert loop.displacement == pytest.approx(np.full(4000, 0.1), abs=1e-12)
+    assert view.target_accel is not None and view.target_accel[0] == 5.0
+    assert RunView.from_channels(_channels()).loops == ()
+
+
+def test_target_falls_back_to_the_input_in_tracking():
+    channels = _channels()
+    channels["z_vs"] = np.zeros(4000)
+    assert np.array_equal(RunView.from_channels(channels).target_accel, channels["a_g"])
+
+
+class _Trip:
+    limit, time_s = "stroke", 1.25
+
+
+class _Result:
+    channels = _channels()
+    config = {"motion": "GM1", "table": {"Kp": 0.001}}
+    trip = _Trip()
+    mode = "mil"
+
+
+def test_page_is_self_contained_and_shows_status_metrics_config():
+    view = RunView.from_result(_Result(), metrics={"nrms_error": 0.0312345}, m_vs=2.0)
+    page = render_run_html(view)
+    assert page.startswith("<!DOCTYPE html>") and "<script" not in page
+    assert not re.search(r'(src|href)="(?!data:|#)', page)  # only data: URIs and anchors
+    assert page.count('src="data:image/png;base64,') == 3  # histories, spectra, loop
+    assert "limit &#x27;stroke&#x27; tripped at t = 1.2500 s" in page
+    assert "0.03123" in page and "table.Kp" in page
+
+
+def test_html_escapes_text():
+    page = html_page("<b>x</b>", ["<p>ok</p>"], subtitle="a & b")
+    assert "&lt;b&gt;x&lt;/b&gt;" in page and "a &amp; b" in page
+
+
+def test_flatten_nested_configuration():
+    assert flatten({"a": {"b": 1, "c": {"d": 2}}, "e": list(range(20))}) == {
+        "a.b": 1, "a.c.d": 2, "e": "[20 values]"}
