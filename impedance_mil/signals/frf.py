@@ -85,7 +85,7 @@ def estimate_frf(u, y, n_points: int, sample_rate_hz: float, lines=None,
     >>> n = 64; t = np.arange(3 * n)
     >>> u = np.cos(2 * np.pi * 5 * t / n); y = 2 * u
     >>> frf = estimate_frf(u, y, n, 1.0, lines=[5])
-    >>> round(abs(frf.response[0]), 6), round(frf.coherence[0], 6)
+    >>> round(float(abs(frf.response[0])), 6), round(float(frf.coherence[0]), 6)
     (2.0, 1.0)
     """
     u = np.asarray(u, dtype=float)

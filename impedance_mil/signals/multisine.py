@@ -163,7 +163,7 @@ def design_multisine(*, peak: float = 0.1, f_min_hz: float = 0.25, f_max_hz: flo
     Examples
     --------
     >>> ms = design_multisine()
-    >>> ms.lines.size, round(ms.frequencies_hz[0], 3), ms.frequencies_hz[-1]
+    >>> int(ms.lines.size), round(float(ms.frequencies_hz[0]), 3), float(ms.frequencies_hz[-1])
     (512, 0.244, 125.0)
     """
     if phases not in _PHASE_METHODS:
