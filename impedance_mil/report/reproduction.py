@@ -4,8 +4,8 @@
 folders (e.g. of ``report-sec4``, ``report-sec8``, ``report-sec9``),
 evaluates :data:`impedance_mil.campaign.claims.CLAIMS` on them and writes a
 self-contained HTML page: for each claim, the report's statement with its
-section, the toolkit's figure and numbers, and the verdict (agree, disagree,
-not run).  The claims are data; this module only draws them.
+section, the toolkit's figure (inline SVG) and numbers, and the verdict
+(agree, disagree, not run).  The claims are data; this module only draws them.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from .. import __version__
 from ..campaign.claims import AGREE, CLAIMS, DISAGREE, NOT_RUN, Claim, ClaimOutcome, evaluate_claims
 from ..campaign.summary import NOT_RUN as RUN_NOT_RUN, SummaryTable, load_summary
 from ..campaign.store import CampaignStore
-from .html import STYLES, escape, figure_png, html_page, new_figure, write_html
+from .html import STYLES, escape, figure_svg, html_page, new_figure, write_html
 
 
 @dataclass(frozen=True)
@@ -86,7 +86,7 @@ def _claim_section(outcome: ClaimOutcome) -> str:
         f"<p><b>Toolkit:</b> {escape(outcome.measured)}</p>",
     ]
     if outcome.curves:
-        parts.append(figure_png(claim_figure(outcome), f"figure for claim {claim.id}"))
+        parts.append(figure_svg(claim_figure(outcome)))
     parts.append("</div>")
     return "".join(parts)
 

@@ -133,7 +133,8 @@ def test_reproduction_page_renders_every_figure(browser, served, tmp_path):
     result = write_reproduction_report([tmp_path / "camp"], tmp_path / "repro.html", CLAIMS + (extra,))
     assert result.agree == 1 and result.not_run == len(CLAIMS)
     facts = _check_page(browser, f"{served}/repro.html")
-    assert len(facts["imgs"]) == 1
+    # The claim figure is inline SVG: one, with a size.
+    assert len(facts["imgs"]) == 0 and len(facts["svgs"]) == 1
 
 
 def test_the_probe_sees_a_broken_figure(browser, served, tmp_path):
