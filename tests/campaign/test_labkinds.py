@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from impedance_mil.campaign import InlineExecutor, load_campaign, run_campaign
-from impedance_mil.campaign.motions import REPORT_MOTIONS, find_peer_file, report_motion
+from impedance_mil.campaign import motions
+from impedance_mil.campaign.motions import REPORT_MOTIONS, find_peer_file, motion_source, report_motion
 from impedance_mil.lab.results import load_run
 from impedance_mil.units import G0
 
@@ -21,7 +22,7 @@ name = "mil"
 product = { vs = ["SD2", "FP2"] }
 [[study]]
 name = "trip"
-set = { vs = "SD2", motion_scale = 8.0 }
+set = { vs = "SD2", motion = "GM1", motion_scale = 4.0 }
 [[study]]
 name = "track"
 kind = "tracking"
@@ -49,7 +50,9 @@ def test_mil_and_tracking_runs_record_metrics_and_hdf5(lab_campaign):
         # 5 ms may keep up to one record step more.
         assert run.loop_time == pytest.approx(5e-4)
         assert 3.0 <= run.n_samples * run.loop_time <= 3.0 + 0.005 + 5e-4
-        assert record.metrics["motion_source"] == "substitute built-in elcentro"
+        # GM3's substitute: FEMA P695 20b with the optional extra, else the built-in RSN 6.
+        assert record.metrics["motion_source"] in ("substitute FEMA P695 farfield 20b",
+                                                   "substitute built-in elcentro")
     # The MIL runs use the preset's basemat mass: 2000 lb on a 1600 lb table (Table 9.1).
     assert by_study["mil"][0].metrics["m_vs_over_m_st"] == pytest.approx(1.25, rel=1e-3)
 
@@ -57,7 +60,7 @@ def test_mil_and_tracking_runs_record_metrics_and_hdf5(lab_campaign):
 def test_a_tripped_run_is_aborted_with_the_limit_named(lab_campaign):
     _, result = lab_campaign
     (trip,) = [r for r in result.records if "trip" in r.studies]
-    # GM3 at 8 x 0.4 g needs far more than the +-3 in stroke of Section 8.2.
+    # GM1 (RSN 6, built in) at 4 x 0.8 g needs far more than the +-3 in stroke of Section 8.2.
     assert trip.status == "aborted" and "tripped" in trip.error
     assert trip.metrics["duration_s"] < 3.0
     assert load_run(result.root / trip.hdf5).trip is not None
@@ -69,7 +72,7 @@ def test_report_motions_follow_table_8_1():
         # Table 8.1 PGA up to 1e-9 where the peak falls in the first 5 s of the scaled record.
         assert motion.pga_g <= spec.pga_scaled_g * (1 + 1e-9)
         assert motion.duration == pytest.approx(5.0, abs=motion.time_step)
-    gm1, source = report_motion("GM1")
+    gm1, source = report_motion("GM1", duration_s=None)
     # RSN 6 has dt = 0.01 s; the report compresses time by 2.
     assert gm1.time_step == pytest.approx(0.005) and gm1.pga == pytest.approx(0.8 * G0)
     assert source == "built-in elcentro"
@@ -80,3 +83,21 @@ def test_peer_files_are_preferred_when_given(tmp_path):
         (tmp_path / name).write_text("")
     assert find_peer_file(tmp_path, 864).name == "RSN864_LANDERS_ABC000.AT2"
     assert find_peer_file(tmp_path, 2632) is None
+
+
+def test_motion_sources_in_order(tmp_path, monkeypatch):
+    (tmp_path / "RSN2632_CHICHI_XYZ-N.AT2").write_text("")
+    assert motion_source("GM3", tmp_path) == "peer:RSN2632_CHICHI_XYZ-N.AT2"
+    monkeypatch.setattr(motions, "fema_available", lambda: True)
+    assert motion_source("GM3", tmp_path / "..") == "fema:farfield:20b"
+    assert motion_source("GM1") == "builtin:elcentro"  # RSN 6 itself ships with the package
+    monkeypatch.setattr(motions, "fema_available", lambda: False)
+    assert motion_source("GM2") == motion_source("GM3") == "builtin:elcentro"
+
+
+@pytest.mark.skipif(not motions.fema_available(), reason="optional extra impedance-mil[fema] missing")
+def test_fema_substitutes_fit_the_stroke():
+    # The substitutes were chosen to need less than the +-3 in stroke of Section 8.2, like the report's.
+    for name in ("GM2", "GM3"):
+        motion, source = report_motion(name)
+        assert source.startswith("substitute FEMA P695") and motion.pgd < 1.5
