@@ -61,9 +61,13 @@ CHANNELS = ("t", "a_g", "z_vs", "u", "u_z", "u_w", "u_v", "current", "x", "v", "
  C_WLC, C_WFE, C_WUSED, C_XM, C_DPM, C_ZM) = range(len(CHANNELS))
 
 
-@njit(cache=True, inline="always")
-def coupled_derivative(pa, y, As, Bs, Cs, Ds, current, out):
-    """Derivative of the table + specimen state; returns the table acceleration z [in/s^2]."""
+@njit(cache=True, inline="always", error_model="numpy")
+def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, out):
+    """Derivative of the table + specimen state; returns the table acceleration z [in/s^2].
+
+    The specimen's state matrix is in compressed-row form: row ``i`` has the
+    values ``Av[Ap[i]:Ap[i+1]]`` in the columns ``Ac[Ap[i]:Ap[i+1]]``.
+    """
     m = y.shape[0] - N_TABLE_STATES
     ws = 0.0
     for i in range(m):
@@ -72,14 +76,14 @@ def coupled_derivative(pa, y, As, Bs, Cs, Ds, current, out):
     z = table_derivative(pa, y, current, ws, Ds, out)
     for i in range(m):
         acc = Bs[i] * z
-        for j in range(m):
-            acc += As[i, j] * y[N_TABLE_STATES + j]
+        for k in range(Ap[i], Ap[i + 1]):
+            acc += Av[k] * y[N_TABLE_STATES + Ac[k]]
         out[N_TABLE_STATES + i] = acc
     return z
 
 
-@njit(cache=True, inline="always")
-def plant_advance(pa, y, As, Bs, Cs, Ds, current, dt, nsub, work):
+@njit(cache=True, inline="always", error_model="numpy")
+def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work):
     """Advance the plant state ``y`` by ``dt`` [s]: ``nsub`` RK4 steps, valve current held [mA].
 
     ``work`` is a (5, len(y)) scratch array.
@@ -88,22 +92,22 @@ def plant_advance(pa, y, As, Bs, Cs, Ds, current, dt, nsub, work):
     n = y.shape[0]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     for _ in range(nsub):
-        coupled_derivative(pa, y, As, Bs, Cs, Ds, current, k1)
+        coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, k1)
         for i in range(n):
             tmp[i] = y[i] + 0.5 * h * k1[i]
-        coupled_derivative(pa, tmp, As, Bs, Cs, Ds, current, k2)
+        coupled_derivative(pa, tmp, Av, Ac, Ap, Bs, Cs, Ds, current, k2)
         for i in range(n):
             tmp[i] = y[i] + 0.5 * h * k2[i]
-        coupled_derivative(pa, tmp, As, Bs, Cs, Ds, current, k3)
+        coupled_derivative(pa, tmp, Av, Ac, Ap, Bs, Cs, Ds, current, k3)
         for i in range(n):
             tmp[i] = y[i] + h * k3[i]
-        coupled_derivative(pa, tmp, As, Bs, Cs, Ds, current, k4)
+        coupled_derivative(pa, tmp, Av, Ac, Ap, Bs, Cs, Ds, current, k4)
         for i in range(n):
             y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-@njit(cache=True, inline="always")
-def plant_sense(pa, y, As, Bs, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, v_low, v_high,
+@njit(cache=True, inline="always", error_model="numpy")
+def plant_sense(pa, y, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, v_low, v_high,
                 lc_weights, chan_idx, q, noise_row, readings, out):
     """Sensor readings at the current state into ``out`` (layout ``SENSE_FIELDS``).
 
@@ -133,7 +137,7 @@ def plant_sense(pa, y, As, Bs, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, 
     out[M_WFE] = force_from_equilibrium(out[M_ZM], out[M_DP], pa[PA_MASS], pa[PA_AREA])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def check_limits(pa, lim, y, meas, uv, sat_ticks):
     """Safety check of one tick; returns ``(trip code, offending value)`` (code 0: all clear).
 
@@ -157,8 +161,8 @@ def check_limits(pa, lim, y, meas, uv, sat_ticks):
     return 0, 0.0
 
 
-@njit(cache=True)
-def run_loop(mode, feedback, pa, nsub, y, As, Bs, Cs, Ds, sens, noise, lim, a_g, command,
+@njit(cache=True, error_model="numpy")
+def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, sens, noise, lim, a_g, command,
              m_z, m_w, s_z, s_w, tmp, compensated, kind_code, vs_params, x_vs, vs_work,
              rec, vs_rec, work, status):
     """The compiled sampled-data loop (module docstring); one code path for every setup.
@@ -175,8 +179,9 @@ def run_loop(mode, feedback, pa, nsub, y, As, Bs, Cs, Ds, sens, noise, lim, a_g,
         RK4 substeps per loop.
     y : ndarray
         Plant state (table + specimen), advanced in place.
-    As, Bs, Cs, Ds
-        Specimen state space (input z [in/s^2], output w [lbf]).
+    Av, Ac, Ap, Bs, Cs, Ds
+        Specimen state space (input z [in/s^2], output w [lbf]); A in
+        compressed-row form (:func:`impedance_mil.lab.plant_interface.specimen_arrays`).
     sens : tuple
         Sensor arrays (:func:`impedance_mil.lab.setup.sensor_arrays`).
     noise : ndarray (n, n_channels)
@@ -212,7 +217,7 @@ def run_loop(mode, feedback, pa, nsub, y, As, Bs, Cs, Ds, sens, noise, lim, a_g,
     status[1] = 0.0
     status[2] = 0.0
     for k in range(n):
-        plant_sense(pa, y, As, Bs, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, v_low, v_high,
+        plant_sense(pa, y, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, v_low, v_high,
                     lc_w, chan_idx, qbuf, noise[k], readings, meas)
         w_used = meas[M_WLC] if feedback == FEEDBACK_LC else meas[M_WFE]
         code, value = check_limits(pa, lim, y, meas, uv_last, sat)
@@ -266,4 +271,4 @@ def run_loop(mode, feedback, pa, nsub, y, As, Bs, Cs, Ds, sens, noise, lim, a_g,
         r[C_XM] = meas[M_X]
         r[C_DPM] = meas[M_DP]
         r[C_ZM] = meas[M_ZM]
-        plant_advance(pa, y, As, Bs, Cs, Ds, current, dt, nsub, work)
+        plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work)

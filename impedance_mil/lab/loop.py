@@ -124,8 +124,8 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     sens = sensor_arrays(sensors, feedback, quantize)
     limits = limits or SafetyLimits()
     mode, ag, cmd = _mode_and_inputs(command, a_g, runtime)
-    As, Bs, Cs, Ds = specimen_arrays(specimen)
-    n_y = N_TABLE_STATES + Bs.size
+    spec = specimen_arrays(specimen)
+    n_y = N_TABLE_STATES + spec[3].size
     y = np.zeros(n_y)
     y[:N_TABLE_STATES] = table.equilibrium_state()
     n = ag.size
@@ -134,8 +134,8 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     rec = np.zeros((n, len(CHANNELS)))
     vs_rec = np.zeros((n, ctrl[8].size))
     status = np.zeros(3)
-    run_loop(mode, _FEEDBACK[feedback], table.parameter_array(), int(substeps), y, As, Bs, Cs,
-             Ds, sens, noise, limits.array(table), ag, cmd, *ctrl, rec, vs_rec,
+    run_loop(mode, _FEEDBACK[feedback], table.parameter_array(), int(substeps), y, *spec,
+             sens, noise, limits.array(table), ag, cmd, *ctrl, rec, vs_rec,
              np.zeros((5, n_y)), status)
     done = int(status[0])
     trip = None

@@ -74,13 +74,24 @@ class PlantInterface(Protocol):
         """Let one loop time pass."""
 
 
-def specimen_arrays(specimen):
-    """``(A, B, C, D)`` of a specimen's state space (input z, output w); zeros for none."""
+def specimen_arrays(specimen) -> tuple:
+    """Kernel arrays ``(A_val, A_col, A_ptr, B, C, D)`` of a specimen (input z, output w).
+
+    ``A`` is stored in compressed-row form (most specimens are sparse: a
+    vessel's 8x8 matrix has 12 nonzeros); ``specimen`` is an object with
+    ``state_space()`` or a state space with ``A, B, C, D``; ``None`` gives no
+    states and ``w = 0``.
+    """
     if specimen is None:
-        return np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
+        return (np.zeros(0), np.zeros(0, np.int64), np.zeros(1, np.int64), np.zeros(0),
+                np.zeros(0), 0.0)
     ss = specimen.state_space() if hasattr(specimen, "state_space") else specimen
-    return (np.ascontiguousarray(ss.A, dtype=float), np.ascontiguousarray(ss.B, dtype=float),
-            np.ascontiguousarray(ss.C, dtype=float), float(ss.D))
+    A = np.asarray(ss.A, dtype=float).reshape(np.size(ss.B), np.size(ss.B))
+    rows, cols = np.nonzero(A)
+    ptr = np.searchsorted(rows, np.arange(A.shape[0] + 1)).astype(np.int64)
+    return (np.ascontiguousarray(A[rows, cols]), cols.astype(np.int64), ptr,
+            np.ascontiguousarray(ss.B, dtype=float), np.ascontiguousarray(ss.C, dtype=float),
+            float(ss.D))
 
 
 class VirtualTable:
@@ -112,14 +123,15 @@ class VirtualTable:
         self.table = table
         self.loop_time = table.loop_time
         self._pa = table.parameter_array()
-        self._A, self._B, self._C, self._D = specimen_arrays(specimen)
+        self._spec = specimen_arrays(specimen)
+        self._C, self._D = self._spec[4], self._spec[5]
         self.sensors = sensors or default_sensors()
         self._sens = sensor_arrays(self.sensors, feedback, quantize)
         self._readings = np.zeros(self.sensors.n_channels)
         self._lim = (limits or SafetyLimits()).array(table)
         self.substeps = int(substeps)
         self.seed = seed
-        n = N_TABLE_STATES + self._B.size
+        n = N_TABLE_STATES + self._C.size
         self.y = np.zeros(n)
         self._work = np.zeros((5, n))
         self._meas = np.zeros(7)
@@ -139,7 +151,7 @@ class VirtualTable:
 
     def _sense(self) -> None:
         noise = self.sensors.draw_noise(self._rng)
-        plant_sense(self._pa, self.y, self._A, self._B, self._C, self._D, *self._sens, noise,
+        plant_sense(self._pa, self.y, self._C, self._D, *self._sens, noise,
                     self._readings, self._meas)
 
     @property
@@ -162,7 +174,7 @@ class VirtualTable:
         self.current = self.table.Kv * uv
 
     def advance(self) -> None:
-        plant_advance(self._pa, self.y, self._A, self._B, self._C, self._D, self.current,
+        plant_advance(self._pa, self.y, *self._spec, self.current,
                       self.loop_time, self.substeps, self._work)
         self._tick += 1
         self._sense()

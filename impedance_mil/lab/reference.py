@@ -36,7 +36,7 @@ class ScipyTable(VirtualTable):
 
     def _rhs(self, t, y):
         out = np.empty_like(y)
-        coupled_derivative(self._pa, y, self._A, self._B, self._C, self._D, self.current, out)
+        coupled_derivative(self._pa, y, *self._spec, self.current, out)
         return out
 
     def advance(self) -> None:
