@@ -234,7 +234,7 @@ def _worse_than(key: str, worse: float, better: float, label: str, **where: Any)
             return NOT_RUN, f"the runs{scope} at {label} = {worse:g} and {better:g} are missing", (), "", "", False
         x = tuple(sorted(err))
         text = f"mean spectral error 0.25-15 Hz{scope}: " + ", ".join(
-            f"{err[k]:.2f} at {label} = {k:g}" for k in x)
+            f"{err[k]:.3g} at {label.split(' [')[0]} = {k:g}" for k in x)
         curve = Curve("toolkit (mean of motions)", x, tuple(err[k] for k in x))
         ok = err[worse] >= MEANINGFUL_RATIO * err[better]
         return (AGREE if ok else DISAGREE), text, (curve,), label, "spectral error [-]", False

@@ -32,7 +32,7 @@ except ImportError:  # pragma: no cover - depends on the environment
 DEFAULT_CONNECT_TIMEOUT_S = 5.0
 
 #: Modules the fork server imports once, so each worker starts quickly.
-_PRELOAD = ["impedance_mil.campaign.engine"]
+_PRELOAD = ("impedance_mil.campaign.engine",)
 
 
 class SchedulerError(ImilError, ConnectionError):
@@ -119,7 +119,7 @@ class LocalExecutor(RunExecutor):
         method = "forkserver" if "forkserver" in methods else "spawn"
         context = multiprocessing.get_context(method)
         if method == "forkserver":
-            context.set_forkserver_preload(_PRELOAD)
+            context.set_forkserver_preload(list(_PRELOAD))
         self.workers = workers
         self.description = f"{workers} local worker process{'es' if workers > 1 else ''}"
         self._pool = cf.ProcessPoolExecutor(max_workers=workers, mp_context=context)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any, Callable, Mapping
 
 from ..errors import ConfigError
@@ -58,8 +59,8 @@ class Kind:
     resolve: Callable[[dict[str, Any]], dict[str, Any]] | None = None
 
 
-#: Every campaign kind, by name.
-KINDS: dict[str, Kind] = {
+#: Every campaign kind, by name (read-only).
+KINDS: Mapping[str, Kind] = MappingProxyType({
     "selftest": Kind("selftest", run_selftest, SELFTEST_PARAMS, SELFTEST_DEFAULTS,
                      "modes of an SD isolator (engine and cluster check; no virtual lab)"),
     "table-poles": Kind("table-poles", run_table_poles, TABLE_POLES_PARAMS, TABLE_POLES_DEFAULTS,
@@ -72,7 +73,7 @@ KINDS: dict[str, Kind] = {
                      "acceleration tracking on the virtual table (Section 8)", resolve_motion),
     "mil": Kind("mil", run_mil_kind, MIL_PARAMS, MIL_DEFAULTS,
                 "MIL with a virtual isolation system (Section 9)", resolve_motion),
-}
+})
 
 
 def get_kind(name: str) -> Kind:

@@ -228,7 +228,8 @@ class RunView:
     def from_channels(cls, channels: Mapping[str, Any], *, title: str = "Run",
                       metrics: Mapping[str, Any] | None = None,
                       config: Mapping[str, Any] | None = None, status: str = "completed",
-                      m_vs: float | None = None) -> "RunView":
+                      m_vs: float | None = None,
+                      model_loop: tuple[Any, Any] | None = None) -> "RunView":
         """Build a view from named channel arrays (the lab's channel names).
 
         Parameters
@@ -254,6 +255,9 @@ class RunView:
         if m_vs is not None and w is not None and x is not None and a_g is not None and t.size > 1:
             _, x_g = integrate_piecewise_linear(a_g, float(t[1] - t[0]))
             loops = (ForceDisplacement("shake table: w - m_vs z, x - x_g", x - x_g, w - m_vs * z),)
+        if model_loop is not None:
+            disp, force = (np.asarray(v, dtype=float) for v in model_loop)
+            loops += (ForceDisplacement("VS model", disp, force, "model"),)
         return cls(title=title, time_s=t, table_accel=z, target_accel=target, ground_accel=a_g,
                    table_disp=x, histories=histories, loops=loops, metrics=dict(metrics or {}),
                    config=dict(config or {}), status=status)
@@ -261,13 +265,14 @@ class RunView:
 
     @classmethod
     def from_result(cls, result: Any, *, title: str = "", metrics: Mapping[str, Any] | None = None,
-                    m_vs: float | None = None) -> "RunView":
+                    m_vs: float | None = None,
+                    model_loop: tuple[Any, Any] | None = None) -> "RunView":
         """Build a view from a run result (anything with ``channels``, ``config`` and ``trip``).
 
         Works with :class:`impedance_mil.lab.results.RunResult` (e.g. from
         ``load_run``) without importing the lab.  The status names the tripped
-        limit, if any; ``m_vs`` [lbf*s^2/in] adds the isolator loop (see
-        :meth:`from_channels`).
+        limit, if any; ``m_vs`` [lbf*s^2/in] and ``model_loop`` add the isolator
+        loops (see :meth:`from_channels`).
         """
         trip = getattr(result, "trip", None)
         status = "completed" if trip is None else (
@@ -275,7 +280,7 @@ class RunView:
         config = dict(getattr(result, "config", {}) or {})
         name = title or f"{getattr(result, 'mode', 'run')} run: {config.get('motion', '')}".strip(": ")
         return cls.from_channels(result.channels, title=name, metrics=metrics, config=config,
-                                 status=status, m_vs=m_vs)
+                                 status=status, m_vs=m_vs, model_loop=model_loop)
 
 
 def history_figure(view: RunView) -> Figure:

@@ -86,3 +86,21 @@ def test_report_command_writes_the_page(imil, sd_campaign, tmp_path):
     assert "not run" in out and (tmp_path / "r.html").read_text().startswith("<!DOCTYPE html>")
     status, _, err = imil("report", tmp_path / "missing", "-o", tmp_path / "r2.html")
     assert status == 2 and err.strip().count("\n") == 0 and "not a campaign folder" in err
+
+
+def test_run_with_progress_bar_prints_a_summary(imil, sd_campaign, tmp_path):
+    status, out, err = imil("run", sd_campaign, "-o", tmp_path / "o", "--workers", 0)
+    assert status == 0, err
+    assert "sd: 3 runs, 3 executed, 0 already done; ok 3, aborted 0, failed 0" in out
+    assert "3/3" in out  # the progress bar's final state
+
+
+def test_interrupt_exits_130_and_says_how_to_resume(imil, sd_campaign, tmp_path, monkeypatch):
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(campaign, "run_campaign", interrupted)
+    status, _, err = imil("run", sd_campaign, "-o", tmp_path / "o", "--workers", 0, "--json")
+    assert status == 130
+    assert err.strip() == f"imil: interrupted; finished runs are kept in {tmp_path / 'o'}; " \
+                          "run the same command to resume"

@@ -25,6 +25,8 @@ def test_isolator_loop_is_w_minus_m_vs_z_against_x_minus_x_g():
     assert loop.displacement == pytest.approx(np.full(4000, 0.1), abs=1e-12)
     assert view.target_accel is not None and view.target_accel[0] == 5.0
     assert RunView.from_channels(_channels()).loops == ()
+    model = RunView.from_channels(_channels(), m_vs=2.0, model_loop=([0.0, 1.0], [0.0, 5.0])).loops
+    assert [loop.role for loop in model] == ["table", "model"] and list(model[1].force) == [0.0, 5.0]
 
 
 def test_target_falls_back_to_the_input_in_tracking():
