@@ -215,7 +215,7 @@ def _feedback_sources(rows: SummaryTable) -> tuple:
     if "load_cells" not in err or "none" not in err:
         return NOT_RUN, "the 42 in runs with load cells and without u_w are missing", (), "", "", False
     ok = err["none"] >= MEANINGFUL_RATIO * err["load_cells"]
-    text = "mean spectral error 0.25-15 Hz at 42 in: " + ", ".join(f"{k} {v:.2f}" for k, v in err.items())
+    text = "mean spectral error 0.25-15 Hz at 42 in: " + ", ".join(f"{k} {v:.3g}" for k, v in err.items())
     names = tuple(err)
     curve = Curve("toolkit (mean of motions)", tuple(range(len(names))), tuple(err[n] for n in names))
     return (AGREE if ok else DISAGREE), text + " (sources: " + ", ".join(names) + ")", (curve,), \
