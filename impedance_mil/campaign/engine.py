@@ -179,7 +179,8 @@ def run_campaign(spec: CampaignSpec, out_dir: str | Path, executor: RunExecutor 
         The campaign folder (created; reused to resume).
     executor : RunExecutor, optional
         Where runs execute; default: a local process pool, one worker per core.
-        An executor passed in is shut down by the caller.
+        An executor passed in stays the caller's to shut down, except that an
+        interrupt cancels its pending runs.
     on_progress : callable, optional
         Called in this process with a :class:`ProgressEvent` after every run.
 

@@ -37,7 +37,7 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any, Mapping
 
 from ..config import read_toml
 from ..errors import ConfigError, DataFileError
@@ -270,9 +270,9 @@ def _count(study: Mapping[str, Any], where: str) -> int:
 
 def _expand(kind: Kind, study: Mapping[str, Any], where: str) -> list[dict[str, Any]]:
     fixed = convert_settings(kind.params, _table(study, "set", where + "."), where=where + ".set.")
-    product = {key: [kind_value(kind, f"{where}.product.{key}", v) for v in values]
+    product = {key: [_kind_value(kind, f"{where}.product.{key}", v) for v in values]
                for key, values in _table(study, "product", where + ".").items()}
-    zipped = {key: [kind_value(kind, f"{where}.zip.{key}", v) for v in values]
+    zipped = {key: [_kind_value(kind, f"{where}.zip.{key}", v) for v in values]
               for key, values in _table(study, "zip", where + ".").items()}
     cases = [convert_settings(kind.params, case, where=f"{where}.cases[{i}].")
              for i, case in enumerate(study.get("cases", [{}]))]
@@ -286,7 +286,7 @@ def _expand(kind: Kind, study: Mapping[str, Any], where: str) -> list[dict[str, 
     return out
 
 
-def kind_value(kind: Kind, key: str, raw: Any) -> Any:
+def _kind_value(kind: Kind, key: str, raw: Any) -> Any:
     """Validate one value of a varied parameter (``key`` ends with the parameter name)."""
     name = key.rsplit(".", 1)[-1]
     if name not in kind.params:
@@ -340,12 +340,4 @@ def _base_config(head: Mapping[str, Any], path: Path) -> dict[str, Any]:
         raise ConfigError("campaign.base_config", "a path to a TOML run configuration", ref)
     base_path = Path(ref) if Path(ref).is_absolute() else path.parent / ref
     return read_toml(base_path)
-
-
-def studies_of(spec: CampaignSpec) -> Sequence[str]:
-    """The study names of a campaign, in file order."""
-    names: dict[str, None] = {}
-    for run in spec.runs:
-        names.update(dict.fromkeys(run.studies))
-    return list(names)
 
