@@ -194,8 +194,8 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, sens, noise, l
         Controller arrays of :class:`impedance_mil.implement.MILRuntime`.
     kind_code, vs_params, x_vs, vs_work
         Virtual system (MODE_MIL).
-    rec : ndarray (n, len(CHANNELS))
-        Receives the records.
+    rec : ndarray (len(CHANNELS), n)
+        Receives the records, one row per channel.
     vs_rec : ndarray (n, n_vs)
         Receives the VS state at the start of each loop.
     work : ndarray (5, len(y))
@@ -248,27 +248,26 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, sens, noise, l
         sat = sat + 1 if abs(uv) >= pa[PA_UVMAX] else 0
         uv_last = uv
         current = pa[PA_KV] * uv
-        r = rec[k]
-        r[C_T] = k * dt
-        r[C_AG] = a_g[k]
-        r[C_ZVS] = z_vs
-        r[C_U] = u
-        r[C_UZ] = u - u_w
-        r[C_UW] = u_w
-        r[C_UV] = uv
-        r[C_I] = current
-        r[C_X] = y[IX_X]
-        r[C_V] = y[IX_V]
-        r[C_Z] = meas[M_Z]
-        r[C_DP] = y[IX_P1] - y[IX_P2]
-        r[C_P1] = y[IX_P1]
-        r[C_P2] = y[IX_P2]
-        r[C_S] = y[IX_S]
-        r[C_W] = meas[M_W]
-        r[C_WLC] = meas[M_WLC]
-        r[C_WFE] = meas[M_WFE]
-        r[C_WUSED] = w_used
-        r[C_XM] = meas[M_X]
-        r[C_DPM] = meas[M_DP]
-        r[C_ZM] = meas[M_ZM]
+        rec[C_T, k] = k * dt
+        rec[C_AG, k] = a_g[k]
+        rec[C_ZVS, k] = z_vs
+        rec[C_U, k] = u
+        rec[C_UZ, k] = u - u_w
+        rec[C_UW, k] = u_w
+        rec[C_UV, k] = uv
+        rec[C_I, k] = current
+        rec[C_X, k] = y[IX_X]
+        rec[C_V, k] = y[IX_V]
+        rec[C_Z, k] = meas[M_Z]
+        rec[C_DP, k] = y[IX_P1] - y[IX_P2]
+        rec[C_P1, k] = y[IX_P1]
+        rec[C_P2, k] = y[IX_P2]
+        rec[C_S, k] = y[IX_S]
+        rec[C_W, k] = meas[M_W]
+        rec[C_WLC, k] = meas[M_WLC]
+        rec[C_WFE, k] = meas[M_WFE]
+        rec[C_WUSED, k] = w_used
+        rec[C_XM, k] = meas[M_X]
+        rec[C_DPM, k] = meas[M_DP]
+        rec[C_ZM, k] = meas[M_ZM]
         plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work)

@@ -26,7 +26,7 @@ from .kernels import (CHANNELS, FEEDBACK_FE, FEEDBACK_LC, MODE_MIL, MODE_OPEN, M
                       TRIP_NAMES, run_loop)
 from .plant_interface import PlantInterface, VirtualTable, specimen_arrays
 from .results import RunResult, Trip
-from .setup import SafetyLimits, default_sensors, sensor_arrays
+from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
 
 _FEEDBACK = {"lc": FEEDBACK_LC, "fe": FEEDBACK_FE}
 _MODES = {MODE_OPEN: "open", MODE_TRACK: "track", MODE_MIL: "mil"}
@@ -129,9 +129,9 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     y = np.zeros(n_y)
     y[:N_TABLE_STATES] = table.equilibrium_state()
     n = ag.size
-    noise = sensors.draw_noise(np.random.default_rng(seed), n)
+    noise = draw_noise(np.random.default_rng(seed), sensors, n)
     ctrl = _controller_arrays(runtime)
-    rec = np.zeros((n, len(CHANNELS)))
+    rec = np.empty((len(CHANNELS), n))
     vs_rec = np.zeros((n, ctrl[8].size))
     status = np.zeros(3)
     run_loop(mode, _FEEDBACK[feedback], table.parameter_array(), int(substeps), y, *spec,
@@ -142,7 +142,7 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     if status[1]:
         trip = Trip(TRIP_NAMES[int(status[1])], done * table.loop_time, float(status[2]))
     return RunResult(
-        channels={name: rec[:done, i].copy() for i, name in enumerate(CHANNELS)},
+        channels={name: rec[i, :done] for i, name in enumerate(CHANNELS)},
         vs_states=vs_rec[:done].astype(float), vs_state_names=_vs_names(runtime),
         mode=_MODES[mode], loop_time=table.loop_time, trip=trip,
         config=_config(table, specimen, runtime, sensors, limits, substeps, seed, feedback,

@@ -20,7 +20,7 @@ from ..errors import LimitTripped
 from ..plant.nonlinear import IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES, valve_command
 from .kernels import (M_DP, M_W, M_WFE, M_WLC, M_X, M_Z, M_ZM, TRIP_NAMES,
                       check_limits, plant_advance, plant_sense)
-from .setup import SafetyLimits, default_sensors, sensor_arrays
+from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
 
 
 @dataclass(frozen=True)
@@ -150,7 +150,7 @@ class VirtualTable:
         self._sense()
 
     def _sense(self) -> None:
-        noise = self.sensors.draw_noise(self._rng)
+        noise = draw_noise(self._rng, self.sensors)
         plant_sense(self._pa, self.y, self._C, self._D, *self._sens, noise,
                     self._readings, self._meas)
 

@@ -23,18 +23,37 @@ DEFAULT_NOISE_V = 1.0e-3
 _REQUIRED = ("table_acceleration", "table_displacement", "differential_pressure")
 
 
-def default_sensors(noise_rms_v: float = DEFAULT_NOISE_V) -> SensorSuite:
-    """The Table 7.1 channels with ``noise_rms_v`` [V rms] of noise each."""
-    return SensorSuite.report_default(noise_rms_v=noise_rms_v)
-
+#: Quantities the loop reads (the actuator load cells of Table 7.1 are not used).
+LOOP_QUANTITIES = _REQUIRED + ("interface_force",)
 
 #: LSB [V] standing for "no quantization" (exact to double precision within +-10 V).
 UNQUANTIZED_LSB_V = 1.0e-14
 
 
+def default_sensors(noise_rms_v: float = DEFAULT_NOISE_V) -> SensorSuite:
+    """The Table 7.1 channels the loop reads, with ``noise_rms_v`` [V rms] of noise each.
+
+    Accelerometer, string potentiometer, dP cell and the four reaction load
+    cells; the actuator load cells are left out (nothing in the loop reads them).
+    """
+    suite = SensorSuite.report_default(noise_rms_v=noise_rms_v)
+    return SensorSuite(tuple(s for s in suite.sensors if s.quantity in LOOP_QUANTITIES))
+
+
 def ideal_sensors() -> SensorSuite:
-    """Table 7.1 channels without noise (pass ``quantize=False`` to drop the 16 bits too)."""
-    return SensorSuite.report_default(noise_rms_v=0.0)
+    """:func:`default_sensors` without noise (pass ``quantize=False`` to drop the 16 bits too)."""
+    return default_sensors(0.0)
+
+
+def draw_noise(rng: np.random.Generator, suite: SensorSuite, n_loops: int | None = None):
+    """Standard-normal draws for the sensor kernel, float32, ``(n_loops, n_channels)``.
+
+    One row per loop; drawing row by row (``n_loops=None``) gives the same
+    numbers as drawing the block, so the plant interface and the compiled
+    loop agree.
+    """
+    shape = (suite.n_channels,) if n_loops is None else (n_loops, suite.n_channels)
+    return rng.standard_normal(shape, dtype=np.float32)
 
 
 def sensor_arrays(suite: SensorSuite, feedback: str = "lc", quantize: bool = True) -> tuple:
