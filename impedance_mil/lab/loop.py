@@ -168,7 +168,7 @@ def simulate_interface(plant: PlantInterface, *, command=None, a_g=None, runtime
         try:
             m = plant.read_sensors()
         except LimitTripped as exc:
-            trip = Trip(exc.limit, exc.time_s, float("nan"))
+            trip = Trip(exc.limit, exc.time_s, float(getattr(plant, "trip_value", np.nan)))
             break
         w_used = m.w_lc if feedback == "lc" else m.w_fe
         vs_rows.append(np.array(runtime.x_vs, dtype=float) if runtime is not None else [])

@@ -147,6 +147,7 @@ class VirtualTable:
         self._sat = 0
         self.valve_command = 0.0
         self.current = 0.0
+        self.trip_value = float("nan")
         self._sense()
 
     def _sense(self) -> None:
@@ -162,6 +163,7 @@ class VirtualTable:
         code, value = check_limits(self._pa, self._lim, self.y, self._meas,
                                    self.valve_command, self._sat)
         if code:
+            self.trip_value = float(value)
             raise LimitTripped(TRIP_NAMES[code], self.time_s, f"value {value:.6g}")
         m = self._meas
         return Measurements(self.time_s, m[M_X], m[M_DP], m[M_ZM], m[M_WLC], m[M_WFE])
