@@ -151,7 +151,7 @@ def table_derivative(pa, xt, current, w_state, w_feed, out):
     return z
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def valve_command(pa, u, x_prev, dp_prev):
     """Digital hydraulic loop of Section 4.3.4 [V], limited to +-valve_command_limit.
 
