@@ -131,6 +131,7 @@ def save_run(result: RunResult, path: str | Path) -> Path:
                 grp.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
             ds = f.create_dataset("vs_states", data=result.vs_states)
             ds.attrs["names"] = json.dumps(list(result.vs_state_names))
+        os.chmod(tmp, 0o666 & ~_current_umask())  # mkstemp creates 0600
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
@@ -160,6 +161,12 @@ def load_run(path: str | Path) -> RunResult:
         raise DataFileError(path, f"cannot read HDF5 run file ({exc})") from exc
     except KeyError as exc:
         raise DataFileError(path, f"missing entry {exc}") from exc
+
+
+def _current_umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def _jsonable(obj):

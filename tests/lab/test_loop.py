@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -125,6 +127,9 @@ def test_run_file_round_trip(table, tmp_path):
     r = simulate(table, command=_command(1000), specimen=RigidMass(1200.0))
     path = save_run(r, tmp_path / "run.h5")
     assert [p.name for p in tmp_path.iterdir()] == ["run.h5"]     # no temporary left
+    mask = os.umask(0)
+    os.umask(mask)
+    assert path.stat().st_mode & 0o777 == 0o666 & ~mask   # the mode of any new file
     back = load_run(path)
     for name, arr in r.channels.items():
         np.testing.assert_array_equal(back.channels[name], arr)
