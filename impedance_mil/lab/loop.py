@@ -32,15 +32,25 @@ _FEEDBACK = {"lc": FEEDBACK_LC, "fe": FEEDBACK_FE}
 _MODES = {MODE_OPEN: "open", MODE_TRACK: "track", MODE_MIL: "mil"}
 
 
-def _mode_and_inputs(command, a_g, runtime) -> tuple[int, np.ndarray, np.ndarray]:
+def _history(key: str, values, unit: str) -> np.ndarray:
+    arr = np.ascontiguousarray(values, dtype=float).ravel()
+    if not np.all(np.isfinite(arr)):
+        raise ConfigError(key, f"finite samples [{unit}], one per loop", "NaN or inf")
+    return arr
+
+
+def _mode_and_inputs(command, a_g, runtime, loop_time) -> tuple[int, np.ndarray, np.ndarray]:
     if runtime is None:
         if command is None:
             raise ConfigError("command", "a position command history [in] when no controller is given")
-        cmd = np.ascontiguousarray(command, dtype=float).ravel()
+        cmd = _history("command", command, "in")
         return MODE_OPEN, np.zeros(cmd.size), cmd
     if a_g is None:
         raise ConfigError("a_g", "a ground acceleration history [in/s^2] for a controlled run")
-    ag = np.ascontiguousarray(a_g, dtype=float).ravel()
+    if not np.isclose(runtime.loop_time_s, loop_time, rtol=1e-9, atol=0.0):
+        raise ConfigError("loop_time", f"the controller's loop time {runtime.loop_time_s:g} s",
+                          loop_time)
+    ag = _history("a_g", a_g, "in/s^2")
     mode = MODE_MIL if getattr(runtime, "vs", None) is not None else MODE_TRACK
     return mode, ag, np.zeros(ag.size)
 
@@ -123,7 +133,7 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     sensors = sensors or default_sensors()
     sens = sensor_arrays(sensors, feedback, quantize)
     limits = limits or SafetyLimits()
-    mode, ag, cmd = _mode_and_inputs(command, a_g, runtime)
+    mode, ag, cmd = _mode_and_inputs(command, a_g, runtime, table.loop_time)
     spec = specimen_arrays(specimen)
     n_y = N_TABLE_STATES + spec[3].size
     y = np.zeros(n_y)
@@ -159,7 +169,7 @@ def simulate_interface(plant: PlantInterface, *, command=None, a_g=None, runtime
     """
     if feedback not in _FEEDBACK:
         raise ConfigError("feedback", "'lc' (load cells) or 'fe' (force equilibrium)", feedback)
-    mode, ag, cmd = _mode_and_inputs(command, a_g, runtime)
+    mode, ag, cmd = _mode_and_inputs(command, a_g, runtime, plant.loop_time)
     if runtime is not None:
         runtime.reset()
     plant.reset()

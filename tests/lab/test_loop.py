@@ -7,7 +7,9 @@ import os
 import numpy as np
 import pytest
 
-from impedance_mil.errors import DataFileError, LimitTripped
+from impedance_mil.design import design_controller, table_model
+from impedance_mil.errors import ConfigError, DataFileError, LimitTripped
+from impedance_mil.implement import MILRuntime, discretize
 from impedance_mil.lab.loop import VirtualTable, simulate, simulate_interface
 from impedance_mil.lab.plant_interface import PlantInterface
 from impedance_mil.lab.reference import ScipyTable
@@ -158,3 +160,22 @@ def test_rk4_agrees_with_solve_ivp_reference(table):
     for name in ("z", "x", "dp", "w"):
         scale = np.max(np.abs(ref.channels[name]))
         assert np.max(np.abs(fast.channels[name] - ref.channels[name])) < 1e-3 * scale, name
+
+
+def test_bad_inputs_are_named(table):
+    with pytest.raises(ConfigError, match="command"):
+        simulate(table, command=[0.0, np.nan])
+    with pytest.raises(ConfigError, match="command"):
+        simulate(table)
+    with pytest.raises(ConfigError, match="feedback"):
+        simulate(table, command=[0.0], feedback="strain")
+    with pytest.raises(ConfigError, match="substeps"):
+        simulate(table, command=[0.0], substeps=0)
+
+
+def test_controller_loop_time_must_match_the_table(table):
+    design = design_controller(table_model(report_parameters()), form="tracking", fc_hz=80.0,
+                               emit_warnings=False)
+    runtime = MILRuntime(discretize(design.H_uz, design.H_uw, 1e-3, fc_hz=80.0))
+    with pytest.raises(ConfigError, match="loop_time"):
+        simulate(table, a_g=np.zeros(10), runtime=runtime)
