@@ -25,12 +25,18 @@ from ..design.constraints import HALF_POWER_ERROR
 from ..design.feasibility import choose_fc, mass_ratio_study, scan_fc
 from ..design.filters import FAMILIES
 from ..design.forms import FORMS
+from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..errors import ConfigError
+from ..specimens import FluidVessel
 from ..plant import TableParameters, default_table_path
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
 from ..virtual.files import resolve
 from .common import console, print_json
+
+
+#: Water depths of the report's vessel [in] (Sections 4.5, 8, 9) for the coupled-stability check.
+VESSEL_DEPTHS_IN = (0.0, 18.0, 30.0, 36.0, 42.0)
 
 
 def _parse_fc(text: str) -> Optional[list[float]]:
@@ -76,6 +82,10 @@ def design(
     passivity_tol: float = typer.Option(0.0, "--passivity-tol", help="Extra passivity tolerance [deg]."),
     mass_ratios: Optional[str] = typer.Option(None, "--mass-ratios",
                                               help="Basemat-mass study: m_vs/m_st values, e.g. 1.25,1,0.8."),
+    linearization: str = typer.Option("describing-function", "--linearization",
+                                      help="LR/FP in the constraints: " + " | ".join(METHODS) + "."),
+    amplitude: float = typer.Option(DEFAULT_AMPLITUDE_IN, "--amplitude",
+                                    help="Design displacement amplitude of the LR/FP isolator [in]."),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
     plots: Optional[Path] = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
     output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
@@ -100,7 +110,12 @@ def design(
     spec = None
     if vs is not None and form != "tracking":
         spec = resolve(vs, parse_overrides(sets_vs, option="--set-vs"))
-    vm = virtual_model(spec.vs, spec.name) if spec is not None else None
+    if linearization not in METHODS:
+        raise ConfigError("--linearization", "one of " + ", ".join(METHODS), linearization)
+    if not amplitude > 0:
+        raise ConfigError("--amplitude", "a positive displacement amplitude in in", amplitude)
+    lin = dict(linearization=linearization, amplitude_in=amplitude)
+    vm = virtual_model(spec.vs, spec.name, **lin) if spec is not None else None
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
     kw = dict(form=form, family=family, order=order, criteria=criteria)
@@ -116,11 +131,10 @@ def design(
     if ratios:
         if spec is None:
             raise ConfigError("--mass-ratios", "a VS (--vs) and a form other than tracking")
-        study = [{"mass_ratio": c.mass_ratio,
-                  "feasible_fc_hz": None if c.feasible_fc_hz is None else list(c.feasible_fc_hz)}
-                 for c in mass_ratio_study(tm, lambda m: virtual_model(
-                     resolve(vs, {**parse_overrides(sets_vs, option="--set-vs"), "m_vs": m}).vs, spec.name),
-                     ratios, form=form, criteria=criteria)]
+        vessels = {f"vessel {d} in": FluidVessel(d).impedance() for d in VESSEL_DEPTHS_IN}
+        study = [c.to_dict() for c in mass_ratio_study(tm, lambda m: virtual_model(
+                     resolve(vs, {**parse_overrides(sets_vs, option="--set-vs"), "m_vs": m}).vs, spec.name, **lin),
+                     ratios, form=form, criteria=criteria, design_fc_hz=fcs[0], specimens=vessels)]
     written = []
     if plots is not None:
         rows = fcs if len(fcs) > 1 else sorted({*([scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]]
@@ -134,6 +148,8 @@ def design(
         written.append(save_design(result, output))
     doc = result.to_json()
     doc["fc_choice_reasons"] = reasons
+    doc["vs_linearization"] = (vm.equivalent.to_dict() if vm is not None and vm.equivalent is not None
+                               else None)
     if study:
         doc["mass_ratio_study"] = study
     if json_out:
@@ -163,7 +179,11 @@ def _print_human(result, reasons, study, written) -> None:
     for row in study:
         r = row["feasible_fc_hz"]
         console.print(f"  m_vs/m_st = {row['mass_ratio']:g}: feasible fc "
-                      + (f"{r[0]:.4g}-{r[1]:.4g} Hz" if r else "none"))
+                      + (f"{r[0]:.4g}-{r[1]:.4g} Hz" if r else "none")
+                      + f"; at {row['design_fc_hz']:g} Hz passive: {row['passive_at_design_fc']} "
+                      f"(margin {row['passivity_margin_deg']:.2f} deg); coupled stable with "
+                      + ", ".join(f"{c['specimen']}: {c['stable']} (zeta {c['hf_damping_ratio']:.3f})"
+                                  for c in row["coupled"]))
     for text in result.warnings:
         console.print(f"[yellow]warning:[/] {text}")
     for path in written:

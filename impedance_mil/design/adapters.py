@@ -11,6 +11,9 @@ from typing import Optional
 from ..plant import LinearTable, TableParameters
 from ..virtual.base import VirtualSystem
 from .forms import TableModel, VirtualModel
+from .linearize import (DEFAULT_AMPLITUDE_IN, DEFAULT_ARTICLE_WEIGHT_LBF, METHODS,
+                        equivalent_linearization)
+from ..errors import ConfigError
 
 
 def table_model(params: TableParameters, delay: str = "first-order") -> TableModel:
@@ -33,8 +36,32 @@ def table_model(params: TableParameters, delay: str = "first-order") -> TableMod
     return TableModel(tbl.tf("z", "u"), tbl.tf("z", "w"), float(params.loop_time), params.to_dict())
 
 
-def virtual_model(vs: VirtualSystem, name: Optional[str] = None) -> VirtualModel:
-    """The design's view of a VS: its linear part (Eq 5-2, 5-8, 5-13)."""
+def virtual_model(vs: VirtualSystem, name: Optional[str] = None, *,
+                  linearization: str = "describing-function",
+                  amplitude_in: float = DEFAULT_AMPLITUDE_IN,
+                  article_weight_lbf: float = DEFAULT_ARTICLE_WEIGHT_LBF) -> VirtualModel:
+    """The design's view of a VS: its linear part (Eq 5-2, 5-8, 5-13) and, if hysteretic, its linearization.
+
+    Parameters
+    ----------
+    vs : VirtualSystem
+    name : str, optional
+        Preset name, kept for the design file.
+    linearization : str
+        For a VS with a nonlinear input (LR, FP): ``describing-function``
+        (default), ``equivalent-viscous`` or ``open-fh`` (none: the linear part
+        with ``f_h`` open, the conservative model); see
+        :mod:`impedance_mil.design.linearize`.  Ignored for a linear VS.
+    amplitude_in : float
+        Design displacement amplitude of the isolator [in].
+    article_weight_lbf : float
+        Test-article weight [lbf] for the effective frequency of ``equivalent-viscous``.
+    """
+    if linearization not in METHODS:
+        raise ConfigError("linearization", "one of " + ", ".join(METHODS), linearization)
     lp = vs.linear_part()
+    eq = None
+    if lp.H_zfh is not None and linearization != "open-fh":
+        eq = equivalent_linearization(vs, amplitude_in, linearization, article_weight_lbf)
     return VirtualModel(lp.H_zag, lp.H_zw, lp.H_zfh, kind=str(vs.kind), name=name,
-                        parameters=vs.to_dict())
+                        parameters=vs.to_dict(), equivalent=eq)

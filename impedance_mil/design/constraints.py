@@ -115,7 +115,8 @@ class ControlledTable:
         Whole path from ``w`` [lbf] to ``u`` [in], through the VS model for the
         standardized form.
     factors : tuple
-        ``(H_zw^st, H_zu^st, H_uw, H_uz, H_zw^vs or None)``: the response is
+        ``(H_zw^st, H_zu^st, H_uw, H_uz, H_zw^vs or None)``, the last being
+        the VS impedance closing ``w -> z_vs`` (see :func:`target_impedance`): the response is
         evaluated factor by factor (:meth:`impedance`), which keeps full
         precision where the polynomial products above lose a few digits to
         clustered roots.
@@ -229,14 +230,39 @@ def controlled_table(table: TableModel, vs: VirtualModel, H_uz: TransferFunction
         path ``w -> z_vs -> u``: ``H_wu = H_uw + H_uz H_zw^vs``.
     """
     closes_vs = form in ("standardized", "tracking") and not vs.H_zw.is_zero
+    target = target_impedance(vs, form)
     if closes_vs:
-        H_wu = (H_uw + H_uz.mul_cancel(vs.H_zw)).minreal()
+        H_wu = (H_uw + H_uz.mul_cancel(target.H_zw)).minreal()
     else:
         H_wu = H_uw
     H_c = (table.H_zw + table.H_zu.mul_cancel(H_wu)).minreal()
     H_vw = H_c.div_cancel(TransferFunction.s())
     return ControlledTable(H_c, H_vw, H_wu,
-                           (table.H_zw, table.H_zu, H_uw, H_uz, vs.H_zw if closes_vs else None))
+                           (table.H_zw, table.H_zu, H_uw, H_uz, target if closes_vs else None))
+
+
+def target_impedance(vs: VirtualModel, form: str):
+    """The VS impedance the constraints use: the equivalent linearization or the linear part.
+
+    For the standardized form the real-time VS model (nonlinear for LR, FP)
+    closes the path ``w -> z_vs``, so its equivalent linearization
+    (``vs.equivalent``, :mod:`.linearize`) stands for it when present.
+    Returns an object with ``H_zw`` (rational, for poles) and
+    ``frequency_response(f_hz)`` [in/s**2 per lbf].
+    """
+    if form == "standardized" and vs.equivalent is not None:
+        return vs.equivalent
+    return _LinearTarget(vs.H_zw)
+
+
+@dataclass(frozen=True)
+class _LinearTarget:
+    """The linear part's ``H_zw`` seen through the interface of :func:`target_impedance`."""
+
+    H_zw: TransferFunction
+
+    def frequency_response(self, f_hz) -> np.ndarray:
+        return self.H_zw.frequency_response(f_hz)
 
 
 def evaluate_constraints(table: TableModel, vs: VirtualModel, ct: ControlledTable, fc_hz: float,
@@ -258,7 +284,9 @@ def evaluate_constraints(table: TableModel, vs: VirtualModel, ct: ControlledTabl
     f = np.logspace(np.log10(lo), np.log10(hi), max(int(GRID_PER_DECADE * np.log10(hi / lo)), 50))
     Hc = ct.impedance(f)
     tracking = vs.H_zw.is_zero
-    ref = table.H_zw.frequency_response(f) if tracking else vs.H_zw.frequency_response(f)
+    # The target is the VS impedance that closes w -> z_vs (the equivalent linearization, when used).
+    target = ct.factors[4] if ct.factors and ct.factors[4] is not None else vs.H_zw
+    ref = table.H_zw.frequency_response(f) if tracking else target.frequency_response(f)
     ratio = Hc / ref
     err = np.abs(ratio) if tracking else np.abs(ratio - 1.0)
     i = int(np.argmax(err))

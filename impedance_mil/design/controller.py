@@ -289,16 +289,22 @@ def design_controller(table: TableModel, vs: Optional[VirtualModel] = None, *,
         notes.append("tracking: the target impedance is zero (a lossless, rigid environment), so constraint I "
                      "is measured against the bare table and the passivity verdict III of the small residual "
                      "impedance is not a stability criterion; see docs/design.md, Limitations")
-    elif vs.H_zfh is not None:
+    elif vs.H_zfh is not None and (vs.equivalent is None or form != "standardized"):
         notes.append(f"{vs.kind}: constraints are evaluated on the VS linear part with f_h as an open input "
                      "(initial stiffness, no hysteretic damping): conservative; see docs/design.md, Limitations")
+    elif vs.H_zfh is not None:
+        eq = vs.equivalent
+        notes.append(f"{vs.kind}: constraints use the {eq.method} linearization of the isolator at "
+                     f"{eq.amplitude_in:g} in (k_eff = {eq.k_eff:.4g} lbf/in, beta_eff = {eq.beta_eff:.2f}); "
+                     "verdicts depend on that amplitude; see docs/design.md, Limitations")
     design = ControllerDesign(
         form=form, reference=ideal.reference, fc_hz=float(fc_hz), filter=paths.spec,
         loop_time_s=float(table.loop_time_s), H_uz=paths.H_uz, H_uw=paths.H_uw, H_ufh=paths.H_ufh,
         constraints=tuple(results), feasible_fc_hz=feasible_fc_hz, warnings=tuple(notes),
         table=dict(table.parameters),
         vs=None if form == "tracking" or vs is None else
-        {"kind": vs.kind, "name": vs.name, "parameters": dict(vs.parameters)})
+        {"kind": vs.kind, "name": vs.name, "parameters": dict(vs.parameters),
+         **({"linearization": vs.equivalent.to_dict()} if vs.equivalent is not None else {})})
     if emit_warnings:
         for text in notes:
             _warnings.warn(text, DesignWarning, stacklevel=2)

@@ -12,12 +12,14 @@ compute that range on a grid of cut-offs and map it over VS parameters:
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Optional, Sequence
+from typing import Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
 from ..errors import ImilError
+from ..systems import TransferFunction
 from .constraints import ConstraintResult, DesignCriteria, controlled_table, evaluate_constraints
+from .coupled import CoupledStability, coupled_stability
 from .controller import filter_controller
 from .forms import TableModel, VirtualModel, ideal_controller
 
@@ -78,11 +80,33 @@ class MassRatioCase:
     feasible_fc_hz : (float, float) or None
         Feasible cut-offs [Hz]; None when no cut-off on the grid works.
     scan : FcScan
+    design_fc_hz : float or None
+        The cut-off of the design checked below [Hz] (the report's 80 Hz).
+    at_design_fc : ConstraintResult or None
+        Constraints at ``design_fc_hz``; its III is the robust verdict (any passive article).
+    coupled : tuple of CoupledStability
+        Closed-loop stability at ``design_fc_hz`` with each given article (specimen-specific).
     """
 
     mass_ratio: float
     feasible_fc_hz: Optional[tuple[float, float]]
     scan: FcScan
+    design_fc_hz: Optional[float] = None
+    at_design_fc: Optional[ConstraintResult] = None
+    coupled: tuple[CoupledStability, ...] = ()
+
+    def to_dict(self) -> dict:
+        """The ``mass_ratio_study`` entry of ``imil design --json``."""
+        out = {"mass_ratio": self.mass_ratio,
+               "feasible_fc_hz": None if self.feasible_fc_hz is None else [float(x) for x in self.feasible_fc_hz]}
+        if self.at_design_fc is not None:
+            r = self.at_design_fc
+            out.update({"design_fc_hz": self.design_fc_hz, "passive_at_design_fc": bool(r.III),
+                        "passivity_margin_deg": r.passivity_margin_deg,
+                        "passivity_tolerant_margin_deg": r.passivity_tolerant_margin_deg,
+                        "passivity_worst_hz": r.passivity_worst_hz,
+                        "coupled": [c.to_dict() for c in self.coupled]})
+        return out
 
 
 @dataclass(frozen=True)
@@ -207,9 +231,11 @@ def choose_fc(table: TableModel, vs: Optional[VirtualModel], fc_grid_hz: Optiona
 
 def mass_ratio_study(table: TableModel, vs_for_mass: Callable[[float], VirtualModel],
                      ratios: Sequence[float], fc_grid_hz: Optional[Sequence[float]] = None, *,
-                     form: str = "standardized", criteria: Optional[DesignCriteria] = None
+                     form: str = "standardized", criteria: Optional[DesignCriteria] = None,
+                     design_fc_hz: Optional[float] = None,
+                     specimens: Optional[Mapping[str, TransferFunction]] = None
                      ) -> tuple[MassRatioCase, ...]:
-    """Feasible cut-offs as the basemat mass changes (Section 9.4.4).
+    """Feasible cut-offs as the basemat mass changes (Section 9.4.4), and coupled stability.
 
     Parameters
     ----------
@@ -222,12 +248,27 @@ def mass_ratio_study(table: TableModel, vs_for_mass: Callable[[float], VirtualMo
     fc_grid_hz : sequence of float, optional
     form, criteria
         As for :func:`scan_fc`.
+    design_fc_hz : float, optional
+        A cut-off [Hz] at which to report the passivity verdict (robust: any
+        passive article) and, for each of ``specimens``, the closed-loop
+        stability (:func:`~impedance_mil.design.coupled.coupled_stability`).
+    specimens : mapping of str to TransferFunction, optional
+        Article impedances ``w/z`` [lbf per in/s**2] by label, e.g.
+        ``{"vessel 36 in": FluidVessel(36).impedance()}``.
     """
     m_st = _table_mass(table)
     out = []
     for ratio in ratios:
-        scan = scan_fc(table, vs_for_mass(float(ratio) * m_st), fc_grid_hz, form=form, criteria=criteria)
-        out.append(MassRatioCase(float(ratio), scan.feasible_fc_hz, scan))
+        vs = vs_for_mass(float(ratio) * m_st)
+        scan = scan_fc(table, vs, fc_grid_hz, form=form, criteria=criteria)
+        at, coupled = None, ()
+        if design_fc_hz is not None:
+            env = VirtualModel.rigid() if form == "tracking" else vs
+            paths = filter_controller(ideal_controller(form, table, env), float(design_fc_hz))
+            ct = controlled_table(table, env, paths.H_uz, paths.H_uw, form)
+            at = evaluate_constraints(table, env, ct, float(design_fc_hz), criteria)
+            coupled = tuple(coupled_stability(ct.H_c, Z, label) for label, Z in (specimens or {}).items())
+        out.append(MassRatioCase(float(ratio), scan.feasible_fc_hz, scan, design_fc_hz, at, coupled))
     return tuple(out)
 
 

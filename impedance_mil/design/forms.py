@@ -91,6 +91,11 @@ class VirtualModel:
         Preset name (e.g. ``"SD2"``).
     parameters : mapping
         The VS parameters (``vs.to_dict()``), kept for the design file.
+    equivalent : EquivalentLinearization or None
+        Equivalent linearization of a hysteretic VS at a design amplitude
+        (:mod:`impedance_mil.design.linearize`); when present it replaces
+        ``H_zw`` in the constraints of the standardized form.  None: the
+        linear part with ``f_h`` open is used.
     """
 
     H_zag: TransferFunction
@@ -99,6 +104,7 @@ class VirtualModel:
     kind: str = "linear"
     name: Optional[str] = None
     parameters: Mapping[str, Any] = field(default_factory=dict)
+    equivalent: Any = None
 
     @classmethod
     def rigid(cls) -> "VirtualModel":

@@ -64,3 +64,17 @@ def test_bad_input_is_one_line_exit_2(tmp_path, monkeypatch, capsys, args, messa
     lines = err.strip().splitlines()
     assert len(lines) == 1 and message in lines[0] and "Traceback" not in err
     assert not out.exists()
+
+
+def test_lr_linearization_and_mass_study_with_coupled_stability():
+    res = runner.invoke(app, ["design", "--vs", "LR2", "--fc", "80", "--json", "--amplitude", "1",
+                              "--mass-ratios", "1.25,0.7"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.output)
+    assert doc["vs_linearization"]["method"] == "describing-function"
+    assert doc["vs_linearization"]["amplitude_in"] == 1.0
+    rows = doc["mass_ratio_study"]
+    assert [r["mass_ratio"] for r in rows] == [1.25, 0.7]
+    assert {c["specimen"] for c in rows[0]["coupled"]} == {"vessel 0.0 in", "vessel 18.0 in", "vessel 30.0 in",
+                                                           "vessel 36.0 in", "vessel 42.0 in"}
+    assert all("feasible_fc_hz" in r and "passive_at_design_fc" in r for r in rows)
