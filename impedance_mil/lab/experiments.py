@@ -184,14 +184,19 @@ def _runtime(params, design, vs, fc_hz, precision, leak_hz):
     return MILRuntime(controller, vs=vs, precision=precision)
 
 
+def _motion_info(gm) -> dict:
+    return {"name": getattr(gm, "name", ""), "source": str(getattr(gm, "source", "")),
+            "time_step_s": gm.time_step, "npts": gm.npts, "pga_g": gm.pga_g}
+
+
 def _controlled(params, motion, runtime, design, *, specimen, table, feedback, sensors, seed,
                 substeps, limits, vs, name) -> ControlledRun:
     gm = motion.resampled(params.loop_time)
     vt = _table(params, table, None)
     run = simulate(vt, a_g=gm.accel, runtime=runtime, specimen=specimen, feedback=feedback,
                    sensors=sensors, seed=seed, substeps=substeps, limits=limits,
-                   config={"experiment": name, "motion": getattr(gm, "name", repr(gm)),
-                           "fc_hz": design.fc_hz})
+                   config={"experiment": name, "motion": _motion_info(gm),
+                           "design": {"form": design.form, "fc_hz": design.fc_hz}})
     metrics = None
     if run.n_samples * params.loop_time >= 1.0:
         metrics = evaluate_run(run, vs=vs, ground_displacement=gm.displacement())
