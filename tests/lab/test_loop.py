@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import pickle
 
 import numpy as np
 import pytest
@@ -179,3 +180,11 @@ def test_controller_loop_time_must_match_the_table(table):
     runtime = MILRuntime(discretize(design.H_uz, design.H_uw, 1e-3, fc_hz=80.0))
     with pytest.raises(ConfigError, match="loop_time"):
         simulate(table, a_g=np.zeros(10), runtime=runtime)
+
+
+def test_run_result_pickles(table):
+    # Campaign executors ship results between processes.
+    r = simulate(table, command=_command(200))
+    back = pickle.loads(pickle.dumps(r))
+    np.testing.assert_array_equal(back.x, r.x)
+    assert back.completed and back.config == r.config
