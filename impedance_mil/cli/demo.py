@@ -1,37 +1,114 @@
-"""`imil demo`: the main job on the built-in default (for now: the table model of Section 4)."""
+"""`imil demo`: the main job on the report's default configuration (the README's first command).
+
+1. The shake table of Table 4.1: parameters, closed-loop poles for three
+   delay models, Bode and root-locus plots (Section 4).
+2. The default MIL controller: standardized form, SD2 (Table 9.1), f_c =
+   80 Hz, and the verdicts of constraints I, II, III (Sections 6, 9.4).
+3. The default MIL test in the virtual lab: El Centro (RSN 6, GM1 of
+   Table 8.1) time-compressed by 2 at 0.8 g, the vessel with 36 in of water,
+   load-cell feedback (Section 9.3); run.h5 and the HTML report run.html.
+
+Everything goes to ``--out`` (default ``demo-output``); the demo replaces its
+own files there.  Exit status 0 when every file was written, also when a
+safety interlock stopped the virtual test (the trip is part of the result
+and is printed); 2 for bad input.
+"""
 
 from __future__ import annotations
 
+import math
+import time
 from pathlib import Path
 
 import typer
 
+from ..campaign.store import atomic_write_text
 from ..plant import LinearTable, TableParameters
 from ..report import table_plots
 from ..systems import pole_table
 from .common import console
+from .runopts import DEFAULT_FC_HZ, DEFAULT_MOTION, DEFAULT_TIME_SCALE, output_path, percent
+from .simulate import Outcome, build_request, check, perform, print_outcome, warn
+
+#: Length of the motion with ``--quick`` [s] (the first seconds, strong shaking included).
+QUICK_DURATION_S = 6.0
+#: The VS of the default MIL test (report Table 9.1; Figure 9-5 for GM1).
+DEMO_VS = "SD2"
 
 
-def _say(text: str) -> None:
+def _say(text: str = "") -> None:
     console.print(text, markup=False)
 
 
-def demo(out: Path = typer.Option(Path("demo-output"), "--out", help="Output folder.")) -> None:
-    """Model summary of the report's shake table (Table 4.1) with Bode and root-locus plots."""
-    out.mkdir(parents=True, exist_ok=True)
-    p = TableParameters.report_default()
-    _say("Shake table of the report (Table 4.1, d = 1e5 per docs/errata.md), internal units:")
-    for key, value in p.to_dict().items():
-        _say(f"  {key:22s} {value}")
+def table_summary(p: TableParameters) -> list[str]:
+    """Parameters (internal units) and closed-loop poles for three delay models (Section 4.4)."""
+    lines = ["Shake table of the report (Table 4.1, d = 1e5 per docs/errata.md), internal units:"]
+    lines += [f"  {key:22s} {value}" for key, value in p.to_dict().items()]
     for delay in ("none", "first-order", "sampled"):
         tbl = LinearTable(p, delay=delay)
-        _say(f"closed-loop poles, delay model '{delay}' "
-             f"(stable: {'yes' if tbl.is_stable() else 'NO'}):")
-        for row in pole_table(tbl.poles()):
-            _say(f"  {row['frequency_hz']:9.2f} Hz  zeta {row['damping']:7.3f}  "
-                 f"({row['real']:.1f} {row['imag']:+.1f}j rad/s)")
-    written = [table_plots.save_bode(p, out / "table_bode.png")]
+        lines.append(f"closed-loop poles, delay model '{delay}' (stable: {'yes' if tbl.is_stable() else 'NO'}):")
+        lines += [f"  {row['frequency_hz']:9.2f} Hz  zeta {row['damping']:7.3f}  "
+                  f"({row['real']:.1f} {row['imag']:+.1f}j rad/s)" for row in pole_table(tbl.poles())]
+    return lines
+
+
+def table_section(p: TableParameters, out: Path) -> list[Path]:
+    """Print the table summary and write it with the Bode and root-locus plots; return the files."""
+    lines = table_summary(p)
+    for line in lines:
+        _say(line)
+    summary = out / "table_summary.txt"
+    atomic_write_text(summary, "\n".join(lines) + "\n")
+    written = [summary, table_plots.save_bode(p, out / "table_bode.png")]
     for name in ("Ke", "Kp", "loop_time"):
         written.append(table_plots.save_root_locus(p, name, out / f"table_rlocus_{name}.png"))
-    for path in written:
-        _say(f"wrote {path}")
+    return written
+
+
+def closing_lines(outcome: Outcome) -> list[str]:
+    """What the default test showed, and what to run next."""
+    doc = outcome.document
+    lines = [f"key metrics: spectral error 0.25-15 Hz {percent(doc['spectral_error_0p25_15hz'])}, "
+             f"15-50 Hz {percent(doc['spectral_error_15_50hz'])}, NRMS {percent(doc['nrms_error'])}, "
+             f"simulated {doc['simulated_s']:.2f} s" + (" (stopped by a safety interlock)" if doc["aborted"] else "")]
+    basemat = outcome.pre.basemat
+    if doc["aborted"] and basemat is not None and not basemat.check("stroke").ok:
+        stroke = basemat.check("stroke")
+        pga = math.floor(10.0 * outcome.request.motion.motion.pga_g * stroke.limit / stroke.peak) / 10.0
+        lines.append(f"The report ran this test on its table (Figure 9-5).  In the virtual lab the SD2 basemat, "
+                     f"which the table must follow, moves {stroke.peak:.2f} in: more than the {stroke.limit:g} in "
+                     f"stroke interlock.  A run that fits:")
+        lines.append(f"  .venv/bin/imil simulate --pga {pga:g} -o sd2-{pga:g}g.h5 --report sd2-{pga:g}g.html")
+    return lines
+
+
+def demo(out: Path = typer.Option(Path("demo-output"), "--out", help="Output folder (created)."),
+         quick: bool = typer.Option(False, "--quick", help=f"Run only the first {QUICK_DURATION_S:g} s of "
+                                    "the motion (for tests).")) -> None:
+    """The report's default configuration end to end: table model, MIL controller, virtual test, HTML report."""
+    start = time.perf_counter()
+    request = build_request(vs=DEMO_VS, table=None, sets=None, specimen="vessel", water_depth=None,
+                            specimen_weight=None, sets_vs=None, motion=DEFAULT_MOTION, units="g",
+                            time_scale=DEFAULT_TIME_SCALE, pga=None, duration=QUICK_DURATION_S if quick else None,
+                            fc=DEFAULT_FC_HZ, feedback="lc", precision="single", seed=0)
+    out.mkdir(parents=True, exist_ok=True)
+    run_file = output_path("--out", out / "run.h5", overwrite=True)
+    page = output_path("--out", out / "run.html", overwrite=True)
+    _say("== 1. The shake table (report Section 4, Table 4.1) ==")
+    written = table_section(request.params, out)
+    _say("")
+    _say("== 2-3. The default MIL controller and test (Sections 6, 9.3): SD2, El Centro x2 at 0.8 g, "
+         "36 in of water, load-cell feedback ==")
+    outcome = Outcome(request)
+    check(outcome, force=False)
+    warn(outcome.warnings)
+    perform(outcome, run_file, page, quiet=False)
+    print_outcome(outcome)
+    for line in closing_lines(outcome):
+        _say(line)
+    _say("")
+    _say(f"== Files in {out} ==")
+    for path in written + outcome.written.paths:
+        _say(f"  {path}")
+    _say(f"open {page} in a browser for the run's histories, spectra and isolator loop; "
+         f"demo finished in {time.perf_counter() - start:.1f} s")

@@ -13,7 +13,7 @@ import sys
 import typer
 
 from ..errors import ImilError
-from . import demo, design_cmd, export, motion, table, vs
+from . import campaign, demo, design_cmd, export, motion, report_cmd, simulate, table, vs
 
 app = typer.Typer(
     name="imil",
@@ -28,6 +28,11 @@ app.add_typer(motion.app, name="motion")
 app.command("demo")(demo.demo)
 app.command("design")(design_cmd.design)
 app.command("export")(export.export)
+app.command("simulate")(simulate.simulate)
+app.command("track")(simulate.track)
+app.command("frf")(simulate.frf)
+app.command("report")(report_cmd.report)
+app.add_typer(campaign.app, name="campaign")
 
 #: Exit status for bad input (configuration, data files, usage).
 EXIT_BAD_INPUT = 2
