@@ -245,9 +245,18 @@ def run_mil(params: TableParameters, vs, motion, *, specimen=None, fc_hz: float 
 
     Parameters are those of :func:`run_tracking`, plus ``vs``, a built-in
     :class:`~impedance_mil.virtual.base.VirtualSystem` (``presets.get("SD2")``).
+
+    Notes
+    -----
+    The standardized controller (``H_uz``, ``H_uw``) does not depend on the
+    equivalent linearization of an LR or FP isolator, which only changes the
+    constraint evaluation; the design is therefore made with
+    ``linearization="open-fh"`` (saves 0.3-1 s per run), and the returned
+    ``design`` reports the conservative open-``f_h`` constraint verdicts.  Use
+    :func:`~impedance_mil.design.design_controller` for the linearized verdicts.
     """
-    design = design_controller(table_model(params), virtual_model(vs), form="standardized",
-                               fc_hz=fc_hz, emit_warnings=False)
+    design = design_controller(table_model(params), virtual_model(vs, linearization="open-fh"),
+                               form="standardized", fc_hz=fc_hz, emit_warnings=False)
     runtime = _runtime(params, design, vs, fc_hz, precision, leak_hz)
     return _controlled(params, motion, runtime, design, specimen=specimen, table=table,
                        feedback=feedback, sensors=sensors, seed=seed, substeps=substeps,
