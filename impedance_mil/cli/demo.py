@@ -27,7 +27,8 @@ from ..plant import LinearTable, TableParameters
 from ..report import table_plots
 from ..systems import pole_table
 from .common import console
-from .runopts import DEFAULT_FC_HZ, DEFAULT_MOTION, DEFAULT_TIME_SCALE, output_path, percent
+from .runopts import (DEFAULT_FC_HZ, DEFAULT_MOTION, DEFAULT_TIME_SCALE, EXIT_INTERRUPTED, err_console,
+                      output_path, percent)
 from .simulate import Outcome, build_request, check, perform, print_outcome, warn
 
 #: Length of the motion with ``--quick`` [s] (the first seconds, strong shaking included).
@@ -82,6 +83,20 @@ def closing_lines(outcome: Outcome) -> list[str]:
     return lines
 
 
+def default_test(request, out: Path) -> Outcome:
+    """Check, run and write the default MIL test into ``out`` (run.h5, run.html); print it."""
+    run_file = output_path("--out", out / "run.h5", overwrite=True)
+    page = output_path("--out", out / "run.html", overwrite=True)
+    outcome = Outcome(request)
+    check(outcome, force=False)
+    warn(outcome.warnings)
+    perform(outcome, run_file, page, quiet=False)
+    print_outcome(outcome)
+    for line in closing_lines(outcome):
+        _say(line)
+    return outcome
+
+
 def demo(out: Path = typer.Option(Path("demo-output"), "--out", help="Output folder (created)."),
          quick: bool = typer.Option(False, "--quick", help=f"Run only the first {QUICK_DURATION_S:g} s of "
                                     "the motion (for tests).")) -> None:
@@ -92,23 +107,19 @@ def demo(out: Path = typer.Option(Path("demo-output"), "--out", help="Output fol
                             time_scale=DEFAULT_TIME_SCALE, pga=None, duration=QUICK_DURATION_S if quick else None,
                             fc=DEFAULT_FC_HZ, feedback="lc", precision="single", seed=0)
     out.mkdir(parents=True, exist_ok=True)
-    run_file = output_path("--out", out / "run.h5", overwrite=True)
-    page = output_path("--out", out / "run.html", overwrite=True)
-    _say("== 1. The shake table (report Section 4, Table 4.1) ==")
-    written = table_section(request.params, out)
-    _say("")
-    _say("== 2-3. The default MIL controller and test (Sections 6, 9.3): SD2, El Centro x2 at 0.8 g, "
-         "36 in of water, load-cell feedback ==")
-    outcome = Outcome(request)
-    check(outcome, force=False)
-    warn(outcome.warnings)
-    perform(outcome, run_file, page, quiet=False)
-    print_outcome(outcome)
-    for line in closing_lines(outcome):
-        _say(line)
+    try:
+        _say("== 1. The shake table (report Section 4, Table 4.1) ==")
+        written = table_section(request.params, out)
+        _say("")
+        _say("== 2-3. The default MIL controller and test (Sections 6, 9.3): SD2, El Centro x2 at 0.8 g, "
+             "36 in of water, load-cell feedback ==")
+        outcome = default_test(request, out)
+    except KeyboardInterrupt:
+        err_console.print(f"imil: interrupted; the files completed so far are in {out}", markup=False)
+        raise typer.Exit(EXIT_INTERRUPTED) from None
     _say("")
     _say(f"== Files in {out} ==")
     for path in written + outcome.written.paths:
         _say(f"  {path}")
-    _say(f"open {page} in a browser for the run's histories, spectra and isolator loop; "
+    _say(f"open {out / 'run.html'} in a browser for the run's histories, spectra and isolator loop; "
          f"demo finished in {time.perf_counter() - start:.1f} s")

@@ -448,6 +448,8 @@ def frf(
     except LimitTripped as exc:
         err_console.print(f"imil: the multisine run was stopped by a safety interlock: {exc}; nothing "
                           "written (lab.run_frf keeps no data of a tripped run)", markup=False)
+        if as_json:
+            print_json({"kind": "frf", "aborted": True, "abort_reason": str(exc), "file": None})
         raise typer.Exit(EXIT_ABORTED) from None
     except KeyboardInterrupt:
         err_console.print("imil: interrupted (nothing written)", markup=False)

@@ -225,6 +225,15 @@ def test_frf_identification_and_kp_study(tmp_path, monkeypatch, capsys):
     assert load_run(out).mode == "open"
 
 
+def test_frf_trip_exits_3_and_says_so(tmp_path, monkeypatch, capsys):
+    # A 3.5 in multisine asks for far more force than A_p (P_s - P_R) = 6300 lbf: an interlock trips.
+    out = tmp_path / "frf.h5"
+    code, stdout, stderr = imil(monkeypatch, capsys, "frf", "--peak", "3.5", "-o", out, "--json")
+    assert code == EXIT_ABORTED and not out.exists()
+    doc = json.loads(stdout)
+    assert doc["aborted"] is True and "tripped at t =" in doc["abort_reason"] and "interlock" in stderr
+
+
 def test_script_entry_point_one_line_error(tmp_path):
     # The installed `imil` script itself (one subprocess): usage error and a bad key.
     res = subprocess.run([str(IMIL), "simulate", "--set", "Kq=1", "-o", str(tmp_path / "r.h5")],
