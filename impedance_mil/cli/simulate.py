@@ -114,6 +114,7 @@ class ControlledRequest:
         return "track" if self.vs_spec is None else "mil"
 
     def describe(self) -> dict:
+        """The request as plain data (for the JSON output and the run file's summary)."""
         return {"kind": self.kind, "vs": None if self.vs_spec is None else self.vs_spec.name,
                 "specimen": self.specimen.label, "specimen_weight_lbf": self.specimen.weight_lbf,
                 "motion": self.motion.to_dict(), "fc_hz": self.fc_hz, "feedback": self.feedback,
@@ -176,7 +177,7 @@ def perform(outcome: Outcome, out: Path, report: Optional[Path], *, quiet: bool)
     loops = int(round(request.motion.motion.duration / request.params.loop_time))
     start = time.perf_counter()
     with activity(not quiet, f"{request.kind}: designing and running {request.motion.motion.duration:.2f} s "
-                  f"({loops} loops)") as step:
+                  f"(about {loops} loops)") as step:
         result = execute(request)
         outcome.elapsed_s = time.perf_counter() - start
         outcome.result = result
@@ -217,7 +218,7 @@ def print_outcome(outcome: Outcome) -> None:
         say(f"STOPPED by a safety interlock: {doc['abort_reason']}; {doc['simulated_s']:.3f} s of "
             f"{gm.duration:.2f} s simulated, the data up to the trip are kept")
     else:
-        say(f"completed: {doc['simulated_s']:.2f} s simulated in {outcome.elapsed_s:.1f} s")
+        say(f"completed: {doc['simulated_s']:.2f} s simulated (designed and run in {outcome.elapsed_s:.1f} s)")
     if doc["spectral_error_0p25_15hz"] is None:
         say("  no metrics (the run stopped before 1 s)")
     else:
