@@ -20,11 +20,11 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
-import os
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
+
+from ..fileio import atomic_write_text, json_safe
 
 #: Number of hex digits of the sha256 kept in a run name (48 bits).
 RUN_ID_LENGTH = 12
@@ -58,37 +58,6 @@ def run_id_for(kind: str, config: Mapping[str, Any]) -> str:
     """
     text = canonical_json({"kind": kind, "config": config})
     return hashlib.sha256(text.encode("ascii")).hexdigest()[:RUN_ID_LENGTH]
-
-
-def atomic_write_bytes(path: Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file in the same folder and a rename."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    try:
-        with tmp.open("wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-
-
-def atomic_write_text(path: Path, text: str) -> None:
-    """Write UTF-8 ``text`` to ``path`` atomically (temporary file, then rename)."""
-    atomic_write_bytes(path, text.encode("utf-8"))
-
-
-def _json_safe(value: Any) -> Any:
-    """Numbers that are not finite become None (JSON has no NaN); tuples become lists."""
-    if isinstance(value, dict):
-        return {str(k): _json_safe(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_json_safe(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 @dataclass(frozen=True)
@@ -137,7 +106,7 @@ class RunRecord:
 
     def to_json(self) -> str:
         """The record as JSON (NaN and infinity become null)."""
-        return json.dumps(_json_safe(asdict(self)), indent=1, sort_keys=True)
+        return json.dumps(json_safe(asdict(self)), indent=1, sort_keys=True)
 
     @classmethod
     def from_json(cls, text: str) -> "RunRecord":
@@ -206,7 +175,7 @@ class CampaignStore:
 
     def write_json(self, name: str, data: Any) -> None:
         """Write a JSON file at the top of the campaign folder atomically."""
-        atomic_write_text(self.root / name, json.dumps(_json_safe(data), indent=1))
+        atomic_write_text(self.root / name, json.dumps(json_safe(data), indent=1))
 
     def read_json(self, name: str) -> Any:
         """Read a JSON file at the top of the campaign folder (OSError/ValueError on failure)."""

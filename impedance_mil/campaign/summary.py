@@ -20,8 +20,9 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..errors import DataFileError
+from ..fileio import atomic_write_bytes, atomic_write_text
 from .spec import CampaignSpec
-from .store import CampaignStore, atomic_write_bytes, atomic_write_text
+from .store import CampaignStore
 
 try:  # pyarrow writes the Parquet copy of the summary
     import pyarrow

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import typer
 
-from ..campaign.store import atomic_write_text
+from ..fileio import atomic_write_text
 from ..plant import LinearTable, TableParameters
 from ..report import table_plots
 from ..systems import pole_table

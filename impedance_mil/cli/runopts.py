@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,6 +30,7 @@ from ..campaign.motions import REPORT_MOTIONS, TIME_SCALE
 from ..config import parse_overrides, quantity, read_toml
 from ..design.constraints import DesignCriteria
 from ..errors import ConfigError, DataFileError, ImilError
+from ..fileio import json_safe
 from ..lab.results import RunResult, save_run
 from ..lab.setup import SafetyLimits
 from ..plant import TableParameters, default_table_path
@@ -64,7 +64,9 @@ FEEDBACK = {"lc": ("lc", True), "fe": ("fe", True), "none": ("lc", False)}
 TRIP_UNITS = {"stroke": "in", "velocity": "in/s", "actuator_force": "lbf",
               "valve_saturation": "V", "divergence": "in", "nan": ""}
 
-#: HDF5 group holding the command's summary (JSON) and extra arrays.
+#: Root attribute of a run file holding the command's summary (JSON).
+SUMMARY_ATTR = "imil_summary_json"
+#: HDF5 group holding the command's extra arrays.
 SUMMARY_GROUP = "imil"
 
 SPECIMEN_HELP = ("vessel (Section 3.2), rigid (a rigid mass of --specimen-weight), none (bare table) "
@@ -355,49 +357,28 @@ def run_summary(run: RunResult, metrics) -> dict:
 
 def write_run_file(run: RunResult, path: Path, summary: Mapping[str, Any],
                    arrays: Optional[Mapping[str, Mapping[str, np.ndarray]]] = None) -> Path:
-    """Write the lab's run file plus the command's summary, atomically.
+    """Write the lab's run file plus the command's summary, atomically (``lab.results.save_run``).
 
-    The file is assembled under a temporary name in the same folder
-    (``lab.results.save_run``, then the ``imil`` group with ``summary_json`` and
-    any ``arrays`` groups) and renamed into place only when complete, so an
-    interrupted write leaves nothing under ``path``.
+    The summary is the root attribute :data:`SUMMARY_ATTR` (JSON, NaN as
+    null); ``arrays`` are subgroups of the group :data:`SUMMARY_GROUP`.
     """
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        save_run(run, tmp)
-        with h5py.File(tmp, "a") as fh:
-            group = fh.create_group(SUMMARY_GROUP)
-            group.attrs["summary_json"] = json.dumps(summary, default=_plain)
-            for name, datasets in (arrays or {}).items():
-                sub = group.create_group(name)
-                for key, values in datasets.items():
-                    sub.create_dataset(key, data=np.asarray(values))
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    groups = {SUMMARY_GROUP: dict(arrays)} if arrays else None
+    return save_run(run, path, extra_attrs={SUMMARY_ATTR: json.dumps(json_safe(summary))},
+                    extra_groups=groups)
 
 
 def read_summary(path: Path) -> tuple[Optional[dict], dict]:
     """The summary and arrays an ``imil`` command stored in a run file (``(None, {})`` for others)."""
     try:
         with h5py.File(path, "r") as fh:
-            group = fh.get(SUMMARY_GROUP)
-            if group is None or "summary_json" not in group.attrs:
+            if SUMMARY_ATTR not in fh.attrs:
                 return None, {}
+            group = fh.get(SUMMARY_GROUP, {})
             arrays = {name: {key: np.asarray(data) for key, data in sub.items()}
                       for name, sub in group.items() if isinstance(sub, h5py.Group)}
-            return json.loads(group.attrs["summary_json"]), arrays
+            return json.loads(fh.attrs[SUMMARY_ATTR]), arrays
     except (OSError, ValueError) as exc:
         raise DataFileError(path, f"cannot read the run summary ({exc})") from None
-
-
-def _plain(obj):
-    """numpy scalars and arrays as Python values (``json.dumps`` default)."""
-    return obj.tolist() if hasattr(obj, "tolist") else str(obj)
 
 
 # ------------------------------------------------------------------ printing

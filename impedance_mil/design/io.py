@@ -27,11 +27,11 @@ from __future__ import annotations
 import json
 import math
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 from ..errors import DataFileError
+from ..fileio import atomic_write_text, json_safe
 from ..systems import TransferFunction
 from .constraints import ConstraintResult
 from .controller import ControllerDesign, FilterSpec
@@ -54,12 +54,12 @@ def design_to_dict(design: ControllerDesign) -> dict[str, Any]:
     doc.update({
         "form": body["form"], "reference": body["reference"], "sign_convention": body["sign_convention"],
         "fc_hz": body["fc_hz"], "filter": body["filter"], "loop_time_s": body["loop_time_s"],
-        "table": _clean(dict(design.table)), "vs": _clean(design.vs),
+        "table": dict(design.table), "vs": design.vs,
         "H_uz": body["H_uz"], "H_uw": body["H_uw"], "H_ufh": body["H_ufh"],
         "constraints": body["constraints"], "feasible_fc_hz": body["feasible_fc_hz"],
         "warnings": body["warnings"],
     })
-    return _clean(doc)
+    return json_safe(doc)
 
 
 def save_design(design: ControllerDesign, path: str | os.PathLike) -> Path:
@@ -72,19 +72,10 @@ def save_design(design: ControllerDesign, path: str | os.PathLike) -> Path:
     """
     target = Path(path)
     text = json.dumps(design_to_dict(design), indent=2, allow_nan=False)
-    directory = target.parent if str(target.parent) else Path(".")
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+        return atomic_write_text(target, text + "\n")
     except OSError as exc:
         raise DataFileError(target, f"cannot write the design file ({exc.strerror or exc})") from None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text + "\n")
-        os.replace(tmp, target)
-    except OSError as exc:
-        Path(tmp).unlink(missing_ok=True)
-        raise DataFileError(target, f"cannot write the design file ({exc.strerror or exc})") from None
-    return target
 
 
 def load_design(path: str | os.PathLike) -> ControllerDesign:
@@ -154,16 +145,3 @@ def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> Control
         filter=spec, loop_time_s=loop, H_uz=H["H_uz"], H_uw=H["H_uw"], H_ufh=H["H_ufh"],
         constraints=constraints, feasible_fc_hz=feas, warnings=tuple(str(w) for w in doc["warnings"]),
         table=dict(doc["table"] or {}), vs=doc["vs"], software_version=str(doc["software_version"]))
-
-
-def _clean(value: Any) -> Any:
-    """JSON-safe copy: tuples to lists, numpy scalars to floats, NaN/inf to None."""
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_clean(v) for v in value]
-    if hasattr(value, "tolist"):
-        return _clean(value.tolist())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

@@ -13,8 +13,6 @@ import io
 import json
 import math
 import os
-import shutil
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -22,6 +20,7 @@ import numpy as np
 
 from .. import __version__ as _pkg_version
 from ..errors import ConfigError
+from ..fileio import atomic_directory
 from .c import render_c
 from .discretize import DiscreteController, discretize
 from .identifiers import check_c_identifier, check_st_identifier
@@ -148,18 +147,7 @@ def write_directory(files: dict[str, str], out_dir: str | os.PathLike, force: bo
         raise ConfigError("-o", "a directory path (a file of that name exists)", str(target))
     if exists and any(target.iterdir()) and not force:
         raise ConfigError("-o", "a new or empty directory (use --force to replace)", str(target))
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
-    try:
+    with atomic_directory(target) as tmp:
         for name, text in files.items():
-            (tmp / name).write_text(text)
-        if exists:
-            old = target.with_name(f".{target.name}.old-{os.getpid()}")
-            target.rename(old)
-            tmp.rename(target)
-            shutil.rmtree(old)
-        else:
-            tmp.rename(target)
-    finally:
-        if tmp.exists():
-            shutil.rmtree(tmp)
+            (tmp / name).write_text(text, encoding="utf-8")
     return target

@@ -4,26 +4,30 @@ A :class:`RunResult` holds every recorded channel (``CHANNELS`` of
 :mod:`impedance_mil.lab.kernels`), the VS states, how the run ended (a
 :class:`Trip` when a safety limit stopped it; the data up to the trip are
 kept) and the full configuration.  :func:`save_run` writes one HDF5 file per
-run, to a temporary name renamed into place; :func:`load_run` reads it back.
+run (with any extra attributes and groups of the caller), to a temporary name
+renamed into place; :func:`load_run` reads it back.
 """
 
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Mapping
 
 import h5py
 import numpy as np
 
 from .. import __version__
 from ..errors import DataFileError, LimitTripped
+from ..fileio import atomic_path, json_safe
 from .kernels import CHANNELS
 
 #: Format tag written in every run file.
 FILE_FORMAT = "impedance-mil run 1"
+#: Root attributes and groups of a run file (``save_run``'s extras may not replace them).
+RUN_ATTRS = ("format", "software_version", "mode", "loop_time_s", "config_json", "trip_json")
+RUN_GROUPS = ("channels", "vs_states")
 
 
 @dataclass(frozen=True)
@@ -110,34 +114,62 @@ class RunResult:
         return self
 
 
-def save_run(result: RunResult, path: str | Path) -> Path:
-    """Write ``result`` to an HDF5 file (temporary name, then rename); return the path."""
+def save_run(result: RunResult, path: str | Path, extra_attrs: Mapping[str, Any] | None = None,
+             extra_groups: Mapping[str, Mapping[str, Any]] | None = None) -> Path:
+    """Write ``result`` to an HDF5 file atomically (temporary name, then rename); return the path.
+
+    Parameters
+    ----------
+    result : RunResult
+        The run.
+    path : str or Path
+        Target file (its folder is created when needed).
+    extra_attrs : mapping of str to str or number, optional
+        Further attributes of the file's root (e.g. a caller's JSON summary).
+    extra_groups : mapping of str to mapping, optional
+        Further groups, ``{group: {dataset: array}}``; a nested mapping in
+        place of an array becomes a subgroup.
+
+    Everything, extras included, is written under the temporary name, so an
+    interrupted write leaves nothing under ``path``.
+
+    Raises
+    ------
+    ValueError
+        An extra attribute or group would replace one of the run file's own.
+    """
+    extra_attrs, extra_groups = dict(extra_attrs or {}), dict(extra_groups or {})
+    clash = sorted(set(extra_attrs) & set(RUN_ATTRS)) + sorted(set(extra_groups) & set(RUN_GROUPS))
+    if clash:
+        raise ValueError(f"extra entry {clash[0]!r} would replace the run file's own")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        with h5py.File(tmp, "w") as f:
-            f.attrs["format"] = FILE_FORMAT
-            f.attrs["software_version"] = result.software_version
-            f.attrs["mode"] = result.mode
-            f.attrs["loop_time_s"] = result.loop_time
-            f.attrs["config_json"] = json.dumps(result.config, default=_jsonable)
-            f.attrs["trip_json"] = json.dumps(None if result.trip is None else {
-                "limit": result.trip.limit, "time_s": result.trip.time_s,
-                "value": result.trip.value})
-            grp = f.create_group("channels")
-            for name, arr in result.channels.items():
-                grp.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
-            ds = f.create_dataset("vs_states", data=result.vs_states)
-            ds.attrs["names"] = json.dumps(list(result.vs_state_names))
-        os.chmod(tmp, 0o666 & ~_current_umask())  # mkstemp creates 0600
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+        f.attrs["format"] = FILE_FORMAT
+        f.attrs["software_version"] = result.software_version
+        f.attrs["mode"] = result.mode
+        f.attrs["loop_time_s"] = result.loop_time
+        f.attrs["config_json"] = json.dumps(json_safe(result.config), default=repr)
+        f.attrs["trip_json"] = json.dumps(None if result.trip is None else {
+            "limit": result.trip.limit, "time_s": result.trip.time_s, "value": result.trip.value})
+        grp = f.create_group("channels")
+        for name, arr in result.channels.items():
+            grp.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
+        ds = f.create_dataset("vs_states", data=result.vs_states)
+        ds.attrs["names"] = json.dumps(list(result.vs_state_names))
+        f.attrs.update(extra_attrs)
+        _write_groups(f, extra_groups)
     return path
+
+
+def _write_groups(parent: h5py.Group, groups: Mapping[str, Mapping[str, Any]]) -> None:
+    for name, entries in groups.items():
+        group = parent.create_group(name)
+        for key, value in entries.items():
+            if isinstance(value, Mapping):
+                _write_groups(group, {key: value})
+            else:
+                group.create_dataset(key, data=np.asarray(value))
 
 
 def load_run(path: str | Path) -> RunResult:
@@ -161,19 +193,3 @@ def load_run(path: str | Path) -> RunResult:
         raise DataFileError(path, f"cannot read HDF5 run file ({exc})") from exc
     except KeyError as exc:
         raise DataFileError(path, f"missing entry {exc}") from exc
-
-
-def _current_umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-def _jsonable(obj):
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, (np.floating, np.integer)):
-        return obj.item()
-    if hasattr(obj, "to_dict"):
-        return obj.to_dict()
-    return repr(obj)

@@ -31,7 +31,7 @@ import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
 import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from ..campaign.store import atomic_write_text  # noqa: E402
+from ..fileio import atomic_write_text  # noqa: E402
 from ..signals import response_spectrum  # noqa: E402
 from ..signals.motion import integrate_piecewise_linear  # noqa: E402
 from ..units import in_s2_to_g  # noqa: E402
@@ -142,9 +142,7 @@ def html_page(title: str, sections: Sequence[str], subtitle: str = "") -> str:
 
 def write_html(path: str | Path, text: str) -> Path:
     """Write an HTML page atomically (temporary name, then rename)."""
-    target = Path(path)
-    atomic_write_text(target, text)
-    return target
+    return atomic_write_text(path, text)
 
 
 def new_figure(width: float = 7.0, height: float = 3.2, rows: int = 1) -> tuple[Figure, Any]:

@@ -7,8 +7,6 @@ rename), so a failed write leaves nothing half-written.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 from typing import Sequence
 
@@ -21,6 +19,7 @@ from matplotlib.backend_bases import FigureCanvasBase  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from ..errors import ConfigError  # noqa: E402
+from ..fileio import atomic_path  # noqa: E402
 from ..signals import GroundMotion, Spectrum  # noqa: E402
 from ..units import in_s2_to_g  # noqa: E402
 
@@ -104,15 +103,9 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = 150) -> Path:
     """
     target = Path(path)
     fmt = target.suffix.lstrip(".").lower() or "png"
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent or ".")
     try:
-        with os.fdopen(fd, "wb") as fh:
-            fig.savefig(fh, format=fmt, dpi=dpi)
-        os.replace(tmp, target)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+        with atomic_path(target) as tmp:
+            fig.savefig(tmp, format=fmt, dpi=dpi)
     finally:
         plt.close(fig)
     return target

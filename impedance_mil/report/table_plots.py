@@ -1,12 +1,12 @@
 """Figures of the shake-table model (report Figures 4.5-4.11): Bode plots and root loci.
 
-Uses matplotlib's Agg backend; every function writes a PNG to a temporary
-name and renames it, so a failed plot never leaves a half-written file.
+Uses matplotlib's Agg backend; the ``save_*`` functions write through
+:func:`~impedance_mil.report.motion_plots.save_figure` (temporary name, then
+rename), so a failed plot never leaves a half-written file.
 """
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import matplotlib
@@ -18,25 +18,15 @@ import numpy as np  # noqa: E402
 from ..errors import ConfigError  # noqa: E402
 from ..plant import LinearTable, TableParameters  # noqa: E402
 from ..plant.tuning import sweep  # noqa: E402
+from .motion_plots import save_figure  # noqa: E402
 
 #: The six transfer functions of Eq 4-15, with axis labels.
 SIX_TFS = (("z", "u", "z/u [in/s^2 / in]"), ("x", "u", "x/u [in/in]"), ("dp", "u", "dP/u [psi/in]"),
            ("z", "w", "z/w [in/s^2 / lbf]"), ("x", "w", "x/w [in/lbf]"), ("dp", "w", "dP/w [psi/lbf]"))
 #: Default sweep ranges for root loci (internal units).
 LOCUS_RANGE = {"Ke": 45.0, "Kp": 0.004, "loop_time": 2e-3}
-
-
-def _save(fig, path: Path) -> Path:
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}.png")
-    try:
-        fig.savefig(tmp, dpi=110)
-        os.replace(tmp, path)
-    finally:
-        plt.close(fig)
-        if tmp.exists():
-            tmp.unlink()
-    return path
+#: Resolution of the saved figures [dots per inch].
+DPI = 110
 
 
 def bode_figure(p: TableParameters, delay: str = "first-order", fmin: float = 0.1,
@@ -67,8 +57,8 @@ def bode_figure(p: TableParameters, delay: str = "first-order", fmin: float = 0.
 
 def save_bode(p: TableParameters, path: Path, delay: str = "first-order", fmin: float = 0.1,
               fmax: float = 200.0) -> Path:
-    """Write :func:`bode_figure` to ``path`` (PNG)."""
-    return _save(bode_figure(p, delay, fmin, fmax), path)
+    """Write :func:`bode_figure` to ``path`` (format from the suffix, PNG without one)."""
+    return save_figure(bode_figure(p, delay, fmin, fmax), path, dpi=DPI)
 
 
 def root_locus_figure(p: TableParameters, name: str, upper: float | None = None, points: int = 60):
@@ -97,5 +87,5 @@ def root_locus_figure(p: TableParameters, name: str, upper: float | None = None,
 
 
 def save_root_locus(p: TableParameters, name: str, path: Path, upper: float | None = None) -> Path:
-    """Write :func:`root_locus_figure` to ``path`` (PNG)."""
-    return _save(root_locus_figure(p, name, upper), path)
+    """Write :func:`root_locus_figure` to ``path`` (format from the suffix, PNG without one)."""
+    return save_figure(root_locus_figure(p, name, upper), path, dpi=DPI)

@@ -26,9 +26,7 @@ naming the file and the problem.
 
 from __future__ import annotations
 
-import os
 import re
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,6 +34,7 @@ import numpy as np
 
 from ..config import quantity
 from ..errors import ConfigError, DataFileError
+from ..fileio import atomic_path
 from ..units import G0
 from .motion import GroundMotion
 
@@ -372,14 +371,7 @@ def write_columns(motion: GroundMotion, path: str | Path, units: str = "g") -> P
     target = Path(path)
     factor = _unit_factor(units)
     rows = np.column_stack((motion.time, motion.accel / factor))
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(f"# {motion.name}\n# {motion.source}\n")
-            np.savetxt(fh, rows, delimiter=",", fmt="%.10g", header=f"time_s,accel_{units}", comments="")
-        os.replace(tmp, target)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    with atomic_path(target) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+        fh.write(f"# {motion.name}\n# {motion.source}\n")
+        np.savetxt(fh, rows, delimiter=",", fmt="%.10g", header=f"time_s,accel_{units}", comments="")
     return target

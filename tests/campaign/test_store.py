@@ -1,4 +1,4 @@
-"""Run names from configuration hashes, records and atomic writes."""
+"""Run names from configuration hashes and run records (atomic writes: tests/test_fileio.py)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import json
 import pytest
 
 from impedance_mil.campaign import CampaignStore, RunRecord, run_id_for
-from impedance_mil.campaign.store import atomic_write_text, canonical_json
+from impedance_mil.campaign.store import canonical_json
 
 
 def test_run_id_is_the_sha256_prefix_of_the_canonical_json():
@@ -30,14 +30,6 @@ def test_run_id_ignores_key_order_and_sees_every_value():
 def test_nan_has_no_canonical_form():
     with pytest.raises(ValueError):
         run_id_for("mil", {"x": float("nan")})
-
-
-def test_atomic_write_leaves_only_the_final_file(tmp_path):
-    target = tmp_path / "a.json"
-    atomic_write_text(target, "one")
-    atomic_write_text(target, "two")
-    assert target.read_text() == "two"
-    assert [p.name for p in tmp_path.iterdir()] == ["a.json"]
 
 
 def test_record_round_trip_and_nan_metrics_become_null(tmp_path):

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from impedance_mil.cli.main import run
-from impedance_mil.cli.runopts import EXIT_ABORTED, read_summary
+from impedance_mil.cli.runopts import EXIT_ABORTED, SUMMARY_ATTR, read_summary
 from impedance_mil.lab import load_run, run_frf, run_mil
 from impedance_mil.plant import TableParameters
 from impedance_mil.signals import builtin_motion
@@ -113,21 +113,21 @@ def test_existing_output_needs_overwrite(tmp_path, monkeypatch, capsys):
     assert code == 0 and load_run(out).mode == "track" and "<!DOCTYPE html>" in page.read_text()
 
 
-@pytest.mark.parametrize("stage", ["lab channels", "summary group"])
+@pytest.mark.parametrize("stage", ["lab channels", "command summary"])
 def test_interrupted_write_leaves_nothing_under_the_final_name(tmp_path, monkeypatch, capsys, stage):
     out = tmp_path / "run.h5"
     out.write_bytes(b"old run")                     # --overwrite: the old file must survive a failed write
-    real_dataset, real_group = h5py.Group.create_dataset, h5py.Group.create_group
+    real_dataset, real_setitem = h5py.Group.create_dataset, h5py.AttributeManager.__setitem__
 
     def full_disk(*args, **kwargs):
         raise OSError(28, "No space left on device")
 
-    if stage == "lab channels":                     # inside lab.results.save_run
+    if stage == "lab channels":                     # lab.results.save_run writing a channel
         monkeypatch.setattr(h5py.Group, "create_dataset", lambda self, name, *a, **k: full_disk()
                             if name == "x" else real_dataset(self, name, *a, **k))
-    else:                                           # after save_run, adding the command's summary
-        monkeypatch.setattr(h5py.Group, "create_group", lambda self, name, *a, **k: full_disk()
-                            if name == "imil" else real_group(self, name, *a, **k))
+    else:                                           # save_run writing the command's summary (an extra)
+        monkeypatch.setattr(h5py.AttributeManager, "__setitem__", lambda self, name, value: full_disk()
+                            if name == SUMMARY_ATTR else real_setitem(self, name, value))
     code, _, stderr = imil(monkeypatch, capsys, "track", *SHORT, "-o", out, "--overwrite")
     assert code == 2 and "No space left on device" in stderr and len(stderr.strip().splitlines()) == 1
     assert out.read_bytes() == b"old run"

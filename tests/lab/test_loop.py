@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import pickle
 
+import h5py
 import numpy as np
 import pytest
 
@@ -140,6 +141,22 @@ def test_run_file_round_trip(table, tmp_path):
     assert back.software_version == r.software_version and back.mode == "open"
     tripped = simulate(table, command=np.linspace(0, 4, 8000))
     assert load_run(save_run(tripped, tmp_path / "trip.h5")).trip == tripped.trip
+
+
+def test_run_file_extras(table, tmp_path):
+    r = simulate(table, command=_command(200))
+    path = save_run(r, tmp_path / "run.h5", extra_attrs={"note": "hello"},
+                    extra_groups={"extra": {"a": np.arange(3.0), "sub": {"b": [1, 2]}}})
+    with h5py.File(path) as fh:
+        assert fh.attrs["note"] == "hello"
+        np.testing.assert_array_equal(fh["extra/a"][()], [0.0, 1.0, 2.0])
+        np.testing.assert_array_equal(fh["extra/sub/b"][()], [1, 2])
+    np.testing.assert_array_equal(load_run(path).x, r.x)          # still a run file
+    with pytest.raises(ValueError, match="'mode'"):
+        save_run(r, tmp_path / "bad.h5", extra_attrs={"mode": "mil"})
+    with pytest.raises(ValueError, match="'channels'"):
+        save_run(r, tmp_path / "bad.h5", extra_groups={"channels": {}})
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.h5"]
 
 
 def test_bad_run_file(tmp_path):
