@@ -29,7 +29,7 @@ from __future__ import annotations
 import numba
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
 def channel_output(m, s, v):
     """Output ``D v + C x`` of one channel (in the arrays' dtype)."""
     n = s.shape[1]
@@ -39,7 +39,7 @@ def channel_output(m, s, v):
     return y
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
 def channel_update(m, s, v, tmp, compensated):
     """Advance one channel: ``x <- x + ((A - I) x + B v)``, Kahan-compensated if asked."""
     n = s.shape[1]
@@ -58,7 +58,7 @@ def channel_update(m, s, v, tmp, compensated):
             s[0, i] = s[0, i] + tmp[i]
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
 def controller_step(m_z, m_w, s_z, s_w, tmp, z_vs, w, compensated):
     """One loop of the MIL controller: return ``u`` [in] and advance the states.
 

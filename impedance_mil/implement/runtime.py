@@ -73,7 +73,7 @@ class MILTrace:
     z_vs: np.ndarray
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, inline="always")
 def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work,
                     dt, a_g, w, out):
     """One MIL loop of Figure 7.9 (corrected): VS output and RK3 step, then the controller.

@@ -34,10 +34,9 @@ from numba import njit
 from ..implement.kernels import channel_output, controller_step
 from ..implement.runtime import mil_step_kernel
 from ..specimens.sensors import force_from_equilibrium, load_cell_force_kernel, measure_kernel
-from ..plant.nonlinear import (IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES, PA_AREA,
-                               PA_KV, PA_LOOP, PA_MASS, PA_UVMAX, table_acceleration,
-                               table_derivative,
-                               valve_command)
+from ..plant.nonlinear import (IX_P1, IX_P2, IX_S, IX_SD, IX_V, IX_X, N_TABLE_STATES,
+                               PA_AREA, PA_KV, PA_LOOP, PA_MASS, PA_UVMAX, table_acceleration,
+                               table_derivative, table_rates, valve_command)
 
 #: Loop modes.
 MODE_OPEN, MODE_TRACK, MODE_MIL = 0, 1, 2
@@ -62,23 +61,39 @@ CHANNELS = ("t", "a_g", "z_vs", "u", "u_z", "u_w", "u_v", "current", "x", "v", "
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, out):
-    """Derivative of the table + specimen state; returns the table acceleration z [in/s^2].
+def specimen_force_state(Cs, ys):
+    """State part ``C x`` [lbf] of the specimen's interface force (``w = C x + D z``)."""
+    ws = 0.0
+    for i in range(Cs.shape[0]):
+        ws += Cs[i] * ys[i]
+    return ws
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def specimen_rates(Av, Ac, Ap, Bs, ys, z, out):
+    """Specimen derivative ``A x + B z`` into ``out`` for table acceleration z [in/s^2].
 
     The specimen's state matrix is in compressed-row form: row ``i`` has the
     values ``Av[Ap[i]:Ap[i+1]]`` in the columns ``Ac[Ap[i]:Ap[i+1]]``.
     """
-    m = y.shape[0] - N_TABLE_STATES
-    ws = 0.0
-    for i in range(m):
-        ws += Cs[i] * y[N_TABLE_STATES + i]
-    # the table states lead y (table_derivative reads and writes indices 0..5 only)
-    z = table_derivative(pa, y, current, ws, Ds, out)
-    for i in range(m):
+    for i in range(Bs.shape[0]):
         acc = Bs[i] * z
         for k in range(Ap[i], Ap[i + 1]):
-            acc += Av[k] * y[N_TABLE_STATES + Ac[k]]
-        out[N_TABLE_STATES + i] = acc
+            acc += Av[k] * ys[Ac[k]]
+        out[i] = acc
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, out):
+    """Derivative of the table + specimen state; returns the table acceleration z [in/s^2].
+
+    Specimen arrays as in :func:`specimen_rates`; this is the derivative that
+    :func:`plant_advance` integrates (there with the table states in registers).
+    """
+    ws = specimen_force_state(Cs, y[N_TABLE_STATES:])
+    # the table states lead y (table_derivative reads and writes indices 0..5 only)
+    z = table_derivative(pa, y, current, ws, Ds, out)
+    specimen_rates(Av, Ac, Ap, Bs, y[N_TABLE_STATES:], z, out[N_TABLE_STATES:])
     return z
 
 
@@ -86,24 +101,52 @@ def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, out):
 def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work):
     """Advance the plant state ``y`` by ``dt`` [s]: ``nsub`` RK4 steps, valve current held [mA].
 
-    ``work`` is a (5, len(y)) scratch array.
+    Classical RK4 on :func:`coupled_derivative`, written out with the six
+    table states as scalars (:func:`~impedance_mil.plant.nonlinear.table_rates`)
+    and the specimen states in ``work``, a (5, len(y)) scratch array; the
+    operations and their order are those of the array form, so results are
+    the same to the last bit.  (The four stages are spelled out on purpose:
+    a stage helper passing the states as tuples measured ~30 % slower.)
     """
     h = dt / nsub
-    n = y.shape[0]
+    m = Bs.shape[0]
+    ys = y[N_TABLE_STATES:]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
+    x, v, p1, p2, s, sd = y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD]
     for _ in range(nsub):
-        coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, k1)
-        for i in range(n):
-            tmp[i] = y[i] + 0.5 * h * k1[i]
-        coupled_derivative(pa, tmp, Av, Ac, Ap, Bs, Cs, Ds, current, k2)
-        for i in range(n):
-            tmp[i] = y[i] + 0.5 * h * k2[i]
-        coupled_derivative(pa, tmp, Av, Ac, Ap, Bs, Cs, Ds, current, k3)
-        for i in range(n):
-            tmp[i] = y[i] + h * k3[i]
-        coupled_derivative(pa, tmp, Av, Ac, Ap, Bs, Cs, Ds, current, k4)
-        for i in range(n):
-            y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current,
+                                     specimen_force_state(Cs, ys), Ds)
+        specimen_rates(Av, Ac, Ap, Bs, ys, z1, k1)
+        for i in range(m):
+            tmp[i] = ys[i] + 0.5 * h * k1[i]
+        x2, v2, p12, p22, s2, sd2 = (x + 0.5 * h * v, v + 0.5 * h * z1, p1 + 0.5 * h * e1,
+                                     p2 + 0.5 * h * f1, s + 0.5 * h * sd, sd + 0.5 * h * g1)
+        z2, e2, f2, g2 = table_rates(pa, x2, v2, p12, p22, s2, sd2, current,
+                                     specimen_force_state(Cs, tmp), Ds)
+        specimen_rates(Av, Ac, Ap, Bs, tmp, z2, k2)
+        for i in range(m):
+            tmp[i] = ys[i] + 0.5 * h * k2[i]
+        x3, v3, p13, p23, s3, sd3 = (x + 0.5 * h * v2, v + 0.5 * h * z2, p1 + 0.5 * h * e2,
+                                     p2 + 0.5 * h * f2, s + 0.5 * h * sd2, sd + 0.5 * h * g2)
+        z3, e3, f3, g3 = table_rates(pa, x3, v3, p13, p23, s3, sd3, current,
+                                     specimen_force_state(Cs, tmp), Ds)
+        specimen_rates(Av, Ac, Ap, Bs, tmp, z3, k3)
+        for i in range(m):
+            tmp[i] = ys[i] + h * k3[i]
+        x4, v4, p14, p24, s4, sd4 = (x + h * v3, v + h * z3, p1 + h * e3, p2 + h * f3,
+                                     s + h * sd3, sd + h * g3)
+        z4, e4, f4, g4 = table_rates(pa, x4, v4, p14, p24, s4, sd4, current,
+                                     specimen_force_state(Cs, tmp), Ds)
+        specimen_rates(Av, Ac, Ap, Bs, tmp, z4, k4)
+        for i in range(m):
+            ys[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        x += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
+        v += h / 6.0 * (z1 + 2.0 * z2 + 2.0 * z3 + z4)
+        p1 += h / 6.0 * (e1 + 2.0 * e2 + 2.0 * e3 + e4)
+        p2 += h / 6.0 * (f1 + 2.0 * f2 + 2.0 * f3 + f4)
+        s += h / 6.0 * (sd + 2.0 * sd2 + 2.0 * sd3 + sd4)
+        sd += h / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4)
+    y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD] = x, v, p1, p2, s, sd
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -116,9 +159,7 @@ def plant_sense(pa, y, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, v_low, v
     index of the z, x and dP channels, and a 5-entry quantity buffer);
     ``readings`` receives every channel's reading.
     """
-    ws = 0.0
-    for i in range(N_TABLE_STATES, y.shape[0]):
-        ws += Cs[i - N_TABLE_STATES] * y[i]
+    ws = specimen_force_state(Cs, y[N_TABLE_STATES:])
     z = table_acceleration(pa, y, ws, Ds)
     w = ws + Ds * z
     dp = y[IX_P1] - y[IX_P2]

@@ -86,14 +86,13 @@ def port_flows(pa, s, p1, p2):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def table_acceleration(pa, xt, w_state, w_feed):
-    """Table acceleration z [in/s^2] (Eq 4-7b with friction and end stops).
+def acceleration(pa, x, v, p1, p2, w_state, w_feed):
+    """Table acceleration z [in/s^2] (Eq 4-7b with friction and end stops), from scalars.
 
-    ``m_st z = A_p dP + w - F_friction + F_endstop`` with ``w = w_state + w_feed z``.
+    ``m_st z = A_p dP + w - F_friction + F_endstop`` with ``w = w_state + w_feed z``;
+    ``x`` [in], ``v`` [in/s], chamber pressures ``p1``, ``p2`` [psi].
     """
-    x = xt[IX_X]
-    v = xt[IX_V]
-    force = pa[PA_AREA] * (xt[IX_P1] - xt[IX_P2]) + w_state
+    force = pa[PA_AREA] * (p1 - p2) + w_state
     # Rails and seals: smoothed Coulomb + viscous friction; end-of-stroke cushion.
     vs = pa[PA_VSMOOTH]
     force -= pa[PA_FC] * v / math.sqrt(v * v + vs * vs) + pa[PA_FV] * v
@@ -103,6 +102,38 @@ def table_acceleration(pa, xt, w_state, w_feed):
     elif x < -xm:
         force -= pa[PA_KSTOP] * (x + xm) + pa[PA_CSTOP] * v
     return force / (pa[PA_MASS] - w_feed)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def table_acceleration(pa, xt, w_state, w_feed):
+    """Table acceleration z [in/s^2] at the state array ``xt`` (:func:`acceleration`)."""
+    return acceleration(pa, xt[IX_X], xt[IX_V], xt[IX_P1], xt[IX_P2], w_state, w_feed)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def table_rates(pa, x, v, p1, p2, s, sd, current, w_state, w_feed):
+    """The nontrivial table derivatives from scalar states: ``(z, dP1/dt, dP2/dt, d2s/dt2)``.
+
+    The other two are ``dx/dt = v`` and ``ds/dt = sd``.  States: ``x`` [in],
+    ``v`` [in/s], ``p1``, ``p2`` [psi], spool ``s`` [mA] and its rate ``sd``
+    [mA/s]; ``current`` [mA], ``w_state``, ``w_feed`` as in
+    :func:`table_derivative`.  Returns z [in/s^2], [psi/s], [psi/s], [mA/s^2].
+    """
+    area = pa[PA_AREA]
+    xm = pa[PA_MID]
+    z = acceleration(pa, x, v, p1, p2, w_state, w_feed)
+    # Chambers (Eq 4-8c,d) with stroke-dependent volumes.
+    vdead = pa[PA_VDEAD]
+    v1 = max(area * (xm + x) + vdead, 0.5 * vdead)
+    v2 = max(area * (xm - x) + vdead, 0.5 * vdead)
+    q1, q2 = port_flows(pa, s, p1, p2)
+    leak = pa[PA_KL] * (p1 - p2)
+    dp1 = pa[PA_KAPPA] / v1 * (q1 - area * v - leak)
+    dp2 = pa[PA_KAPPA] / v2 * (area * v + leak - q2)
+    # Servovalve (Eq 4-3), spool in mA-equivalent.
+    a1 = pa[PA_A1]
+    a2 = pa[PA_A2]
+    return z, dp1, dp2, a1 * a2 * (current - s) - (a1 + a2) * sd
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -124,30 +155,14 @@ def table_derivative(pa, xt, current, w_state, w_feed, out):
     out : ndarray
         Receives the derivative.
     """
-    area = pa[PA_AREA]
-    xm = pa[PA_MID]
-    x = xt[IX_X]
-    v = xt[IX_V]
-    p1 = xt[IX_P1]
-    p2 = xt[IX_P2]
-    s = xt[IX_S]
-    sd = xt[IX_SD]
-    z = table_acceleration(pa, xt, w_state, w_feed)
-    # Chambers (Eq 4-8c,d) with stroke-dependent volumes.
-    vdead = pa[PA_VDEAD]
-    v1 = max(area * (xm + x) + vdead, 0.5 * vdead)
-    v2 = max(area * (xm - x) + vdead, 0.5 * vdead)
-    q1, q2 = port_flows(pa, s, p1, p2)
-    leak = pa[PA_KL] * (p1 - p2)
-    out[IX_X] = v
+    z, dp1, dp2, sdd = table_rates(pa, xt[IX_X], xt[IX_V], xt[IX_P1], xt[IX_P2], xt[IX_S],
+                                   xt[IX_SD], current, w_state, w_feed)
+    out[IX_X] = xt[IX_V]
     out[IX_V] = z
-    out[IX_P1] = pa[PA_KAPPA] / v1 * (q1 - area * v - leak)
-    out[IX_P2] = pa[PA_KAPPA] / v2 * (area * v + leak - q2)
-    # Servovalve (Eq 4-3), spool in mA-equivalent.
-    a1 = pa[PA_A1]
-    a2 = pa[PA_A2]
-    out[IX_S] = sd
-    out[IX_SD] = a1 * a2 * (current - s) - (a1 + a2) * sd
+    out[IX_P1] = dp1
+    out[IX_P2] = dp2
+    out[IX_S] = xt[IX_SD]
+    out[IX_SD] = sdd
     return z
 
 

@@ -302,7 +302,7 @@ REPORT_CHANNELS: tuple[Sensor, ...] = (
 ) + tuple(_reaction_cell(n, s) for n, s in zip(REACTION_CELLS, REACTION_SIGNS))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def measure_kernel(quantities, draws, quantity_index, gain, scale, offset, noise_rms, lsb,
                    v_low, v_high, out):
     """Compiled measurement of one sample of every channel (same maths as :meth:`SensorSuite.measure`).
@@ -333,7 +333,7 @@ def measure_kernel(quantities, draws, quantity_index, gain, scale, offset, noise
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def load_cell_force_kernel(readings, load_cell_weights):
     """Compiled ``w_LC`` [lbf]: ``sum(load_cell_weights * readings)``."""
     total = 0.0
@@ -342,7 +342,7 @@ def load_cell_force_kernel(readings, load_cell_weights):
     return total
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def force_from_equilibrium(table_acceleration, differential_pressure, table_mass, piston_area):
     """``w_FE = m_st z - A_p dP`` [lbf] (Eq 4-7b, Section 8.3.2); compiled, takes floats or arrays.
 

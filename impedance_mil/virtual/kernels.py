@@ -82,9 +82,12 @@ RK3_B2 = 3.0 / 9.0
 RK3_B3 = 4.0 / 9.0
 
 _JIT = dict(cache=True, nogil=True)
+#: Per-step kernels are inlined into their callers at numba-IR level (the lab loop,
+#: the runtime): LLVM cannot inline a callee whose machine code came from the cache.
+_STEP = dict(_JIT, inline="always")
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
 def vs_n_states(kind_code):
     """Number of states of a built-in kind (0 for an unknown kind)."""
     if kind_code == KIND_SD:
@@ -94,7 +97,7 @@ def vs_n_states(kind_code):
     return 0
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
 def _sign(value):
     if value > 0.0:
         return 1.0
@@ -103,13 +106,13 @@ def _sign(value):
     return 0.0
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
 def _bouc_wen_nonlinear(v, h, inv_uy, n):
     """``v/u_y * 0.5*|h|**n*(1 + sign(v*h))`` [1/s]: the nonlinear part of dh/dt."""
     return inv_uy * 0.5 * abs(h) ** n * (1.0 + _sign(v * h)) * v
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
 def _friction(params, v):
     """Mokha et al. friction coefficient mu(v) of Eq 5-10 for FP params."""
     mu_max = params[2]
@@ -117,12 +120,12 @@ def _friction(params, v):
     return mu_max - (mu_max - mu_min) * math.exp(-params[4] * abs(v))
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
 def _lr_inv_uy(params):
     return (1.0 - params[2]) * params[1] / params[3]
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
 def vs_force(kind_code, params, x):
     """Isolator shear force F [lbf] (restoring, Eq 5-3 / 5-11b) at state ``x``."""
     if kind_code == KIND_SD:
@@ -134,21 +137,29 @@ def vs_force(kind_code, params, x):
     return math.nan
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
+def _nonlinear_input_vh(kind_code, params, v, h):
+    """f_h of :func:`vs_nonlinear_input` from the velocity ``v`` and hysteretic variable ``h``."""
+    if kind_code == KIND_LR:
+        return _bouc_wen_nonlinear(v, h, _lr_inv_uy(params), params[5])
+    if kind_code == KIND_FP:
+        return _friction(params, v) * params[6] * h
+    return 0.0
+
+
+@numba.njit(**_STEP)
 def vs_nonlinear_input(kind_code, params, x):
     """Nonlinear input f_h of the linear part (Figures 5.3, 5.5); 0 for SD.
 
     LR: [1/s] entering ``dh/dt = v/u_y - f_h``; FP: [lbf] entering
     ``m_vs*dv/dt = w - k_s*x - f_h - m_vs*a_g``.
     """
-    if kind_code == KIND_LR:
-        return _bouc_wen_nonlinear(x[1], x[2], _lr_inv_uy(params), params[5])
-    if kind_code == KIND_FP:
-        return _friction(params, x[1]) * params[6] * x[2]
+    if kind_code == KIND_LR or kind_code == KIND_FP:
+        return _nonlinear_input_vh(kind_code, params, x[1], x[2])
     return 0.0
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
 def vs_output_z(kind_code, params, x, a_g, w):
     """Absolute basemat acceleration z_vs = (w - F)/m_vs [in/s**2].
 
@@ -158,7 +169,34 @@ def vs_output_z(kind_code, params, x, a_g, w):
     return (w - vs_force(kind_code, params, x)) / params[0]
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
+def _linear_derivative_at(kind_code, params, x, xo, a_g, w, f_h, out, oo):
+    """:func:`vs_linear_derivative` of the state ``x[xo:]`` into ``out[oo:]`` (no slicing)."""
+    out[oo] = x[xo + 1]
+    if kind_code == KIND_SD:
+        out[oo + 1] = (w - params[1] * x[xo] - params[2] * x[xo + 1]) / params[0] - a_g
+    elif kind_code == KIND_LR:
+        out[oo + 1] = (w - params[2] * params[1] * x[xo] - params[4] * x[xo + 1]
+                       - params[3] * x[xo + 2]) / params[0] - a_g
+        out[oo + 2] = _lr_inv_uy(params) * x[xo + 1] - f_h
+    elif kind_code == KIND_FP:
+        out[oo + 1] = (w - params[1] * x[xo] - f_h) / params[0] - a_g
+
+
+@numba.njit(**_STEP)
+def _derivative_at(kind_code, params, x, xo, a_g, w, out, oo):
+    """:func:`vs_derivative` of the state ``x[xo:]`` into ``out[oo:]`` (no slicing)."""
+    f_h = 0.0
+    if kind_code == KIND_LR or kind_code == KIND_FP:
+        f_h = _nonlinear_input_vh(kind_code, params, x[xo + 1], x[xo + 2])
+    _linear_derivative_at(kind_code, params, x, xo, a_g, w, f_h, out, oo)
+    if kind_code == KIND_FP:
+        inv_uy = 1.0 / params[5]
+        out[oo + 2] = inv_uy * x[xo + 1] - _bouc_wen_nonlinear(x[xo + 1], x[xo + 2], inv_uy,
+                                                               params[7])
+
+
+@numba.njit(**_STEP)
 def vs_linear_derivative(kind_code, params, x, a_g, w, f_h, out):
     """Derivative of the linear part (Eq 5-1, 5-7, 5-12) with f_h as an input.
 
@@ -167,17 +205,10 @@ def vs_linear_derivative(kind_code, params, x, a_g, w, f_h, out):
     lives in the nonlinear block, Figure 5.5).  Units as in
     :func:`vs_derivative`; ``f_h`` as in :func:`vs_nonlinear_input`.
     """
-    out[0] = x[1]
-    if kind_code == KIND_SD:
-        out[1] = (w - params[1] * x[0] - params[2] * x[1]) / params[0] - a_g
-    elif kind_code == KIND_LR:
-        out[1] = (w - params[2] * params[1] * x[0] - params[4] * x[1] - params[3] * x[2]) / params[0] - a_g
-        out[2] = _lr_inv_uy(params) * x[1] - f_h
-    elif kind_code == KIND_FP:
-        out[1] = (w - params[1] * x[0] - f_h) / params[0] - a_g
+    _linear_derivative_at(kind_code, params, x, 0, a_g, w, f_h, out, 0)
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
 def vs_derivative(kind_code, params, x, a_g, w, out):
     """State derivative dx/dt written into ``out`` (Eq 5-1, 5-5, 5-11).
 
@@ -198,34 +229,32 @@ def vs_derivative(kind_code, params, x, a_g, w, out):
     out : ndarray of float64
         Receives dx/dt (same length as ``x``).
     """
-    vs_linear_derivative(kind_code, params, x, a_g, w, vs_nonlinear_input(kind_code, params, x), out)
-    if kind_code == KIND_FP:
-        inv_uy = 1.0 / params[5]
-        out[2] = inv_uy * x[1] - _bouc_wen_nonlinear(x[1], x[2], inv_uy, params[7])
+    _derivative_at(kind_code, params, x, 0, a_g, w, out, 0)
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_STEP)
 def vs_step_rk3(kind_code, params, x, a_g, w, dt, work):
     """Advance ``x`` in place by one step ``dt`` [s] with the report's RK3.
 
     Stages at ``x``, ``x + dt*k1/2`` and ``x + 3*dt*k2/4``; update
     ``x += dt*(2*k1 + 3*k2 + 4*k3)/9`` (Figure 7.9).  ``a_g`` [in/s**2] and
-    ``w`` [lbf] are held over the step.  ``work`` holds >= 4*n_states floats.
+    ``w`` [lbf] are held over the step.  ``work`` holds >= 4*n_states floats:
+    ``k1, k2, k3`` and the stage state, addressed by offset (no array views,
+    whose reference counting cost more than a spring-damper's arithmetic).
     """
     n = vs_n_states(kind_code)
-    k1 = work[0:n]
-    k2 = work[n:2 * n]
-    k3 = work[2 * n:3 * n]
-    xs = work[3 * n:4 * n]
-    vs_derivative(kind_code, params, x, a_g, w, k1)
+    o2 = n
+    o3 = 2 * n
+    os_ = 3 * n
+    _derivative_at(kind_code, params, x, 0, a_g, w, work, 0)
     for i in range(n):
-        xs[i] = x[i] + RK3_A21 * dt * k1[i]
-    vs_derivative(kind_code, params, xs, a_g, w, k2)
+        work[os_ + i] = x[i] + RK3_A21 * dt * work[i]
+    _derivative_at(kind_code, params, work, os_, a_g, w, work, o2)
     for i in range(n):
-        xs[i] = x[i] + RK3_A32 * dt * k2[i]
-    vs_derivative(kind_code, params, xs, a_g, w, k3)
+        work[os_ + i] = x[i] + RK3_A32 * dt * work[o2 + i]
+    _derivative_at(kind_code, params, work, os_, a_g, w, work, o3)
     for i in range(n):
-        x[i] += dt * (RK3_B1 * k1[i] + RK3_B2 * k2[i] + RK3_B3 * k3[i])
+        x[i] += dt * (RK3_B1 * work[i] + RK3_B2 * work[o2 + i] + RK3_B3 * work[o3 + i])
 
 
 @numba.njit(**_JIT)
