@@ -97,8 +97,8 @@ def _scalar_metrics(metrics: Mapping[str, Any]) -> dict[str, Any]:
 def execute_run(kind_name: str, config: dict[str, Any], root: str, run_id: str) -> dict[str, Any]:
     """Execute one run in a worker and report its outcome (never raises for a run's own error).
 
-    The run function writes to a temporary HDF5 name that is renamed to
-    ``runs/<run_id>/run.h5`` only when it returns.
+    The run function writes to a temporary name that is renamed to
+    ``runs/<run_id>/<kind.output>`` only when it returns.
 
     Parameters
     ----------
@@ -119,11 +119,12 @@ def execute_run(kind_name: str, config: dict[str, Any], root: str, run_id: str) 
     """
     start = time.perf_counter()
     store = CampaignStore(root)
-    final = store.hdf5_path(run_id)
-    partial = final.with_name(f".run.h5.partial-{os.getpid()}")
     outcome: dict[str, Any] = {"status": "ok", "metrics": {}, "error": "", "hdf5": ""}
+    partial = None
     try:
         kind = get_kind(kind_name)
+        final = store.output_path(run_id, kind.output)
+        partial = final.with_name(f".{final.name}.partial-{os.getpid()}")
         final.parent.mkdir(parents=True, exist_ok=True)
         metrics = _scalar_metrics(kind.run(config, partial))
         if partial.exists():
@@ -139,7 +140,7 @@ def execute_run(kind_name: str, config: dict[str, Any], root: str, run_id: str) 
     except Exception as exc:  # any error of a run is recorded, the campaign goes on
         outcome.update(status="failed", error=_one_line(exc))
     finally:
-        if partial.exists():
+        if partial is not None and partial.exists():
             partial.unlink()
     outcome["elapsed_s"] = time.perf_counter() - start
     outcome["worker"] = f"{socket.gethostname()}:{os.getpid()}"

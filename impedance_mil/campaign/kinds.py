@@ -2,8 +2,8 @@
 
 A run function has the signature ``run(config: dict, out_path: Path) -> dict``:
 it receives the full run configuration (internal units), writes its data to
-``out_path`` (an HDF5 file, or nothing), and returns a flat mapping of
-metric names to numbers.  Raising :class:`~impedance_mil.errors.LimitTripped`
+``out_path`` (the file its kind names in ``output``, or nothing), and returns
+a flat mapping of metric names to numbers.  Raising :class:`~impedance_mil.errors.LimitTripped`
 records the run as *aborted* (a legitimate outcome of a test); any other
 exception records it as *failed* with its reason.
 """
@@ -49,6 +49,10 @@ class Kind:
         before the run is named: it writes into the configuration what the
         run will really use but the campaign does not say (e.g. which record
         stands for GM2), so that the run name changes when that does.
+    output : str
+        Name of the file a run writes in its folder: ``run.h5`` only for lab
+        run files (``lab.results.load_run``, ``imil report``), another name
+        for anything else.
     """
 
     name: str
@@ -57,16 +61,18 @@ class Kind:
     defaults: Mapping[str, Any] = field(default_factory=dict)
     description: str = ""
     resolve: Callable[[dict[str, Any]], dict[str, Any]] | None = None
+    output: str = "run.h5"
 
 
 #: Every campaign kind, by name (read-only).
 KINDS: Mapping[str, Kind] = MappingProxyType({
     "selftest": Kind("selftest", run_selftest, SELFTEST_PARAMS, SELFTEST_DEFAULTS,
-                     "modes of an SD isolator (engine and cluster check; no virtual lab)"),
+                     "modes of an SD isolator (engine and cluster check; no virtual lab)",
+                     output="selftest.h5"),
     "table-poles": Kind("table-poles", run_table_poles, TABLE_POLES_PARAMS, TABLE_POLES_DEFAULTS,
-                        "closed-loop poles of the table model (Section 4.4 tuning)"),
+                        "closed-loop poles of the table model (Section 4.4 tuning)", output="poles.h5"),
     "design": Kind("design", run_design, DESIGN_PARAMS, DESIGN_DEFAULTS,
-                   "MIL controller design and constraints I-III (Sections 6, 9.4)"),
+                   "MIL controller design and constraints I-III (Sections 6, 9.4)", output="design.json"),
     "frf": Kind("frf", run_frf_kind, FRF_PARAMS, FRF_DEFAULTS,
                 "multisine identification of the virtual table (Section 4.5)"),
     "tracking": Kind("tracking", run_tracking_kind, TRACKING_PARAMS, TRACKING_DEFAULTS,

@@ -16,7 +16,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
 
 from ..lab.experiments import ControlledRun, run_frf, run_mil, run_tracking
@@ -101,7 +100,8 @@ def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     dict
         ``model_error`` (0.25-100 Hz) and ``model_error_10_50hz``: rms ``|log(H_model/H_meas)|``
         of ``z/u`` (0.01 is about 1 %); for the bare table also the identified
-        ``f_oil_hz`` [Hz], ``zeta_oil`` and ``identification_error``.
+        ``f_oil_hz`` [Hz], ``zeta_oil`` and ``identification_error``; after a
+        trip, ``aborted`` and ``abort_reason`` (the run's data are kept).
     """
     params = table_parameters(config)
     specimen = _specimen(config)
@@ -109,12 +109,12 @@ def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
                                  n_points=int(round(MULTISINE_PERIOD_S / params.loop_time)))
     exp = run_frf(params, multisine=multisine, specimen=specimen, identify=specimen is None,
                   seed=int(config["seed"]))
-    save_run(exp.run, out_path)
-    with h5py.File(out_path, "a") as fh:
-        group = fh.create_group("frf")
-        group.create_dataset("f_hz", data=exp.frf["z"].frequency_hz)
-        group.create_dataset("H_zu_measured", data=exp.frf["z"].response)
-        group.create_dataset("H_zu_model", data=exp.model["z"])
+    if not exp.completed:
+        save_run(exp.run, out_path)
+        return _aborted(exp.run)
+    z = exp.frf["z"]
+    save_run(exp.run, out_path, extra_groups={"frf": {
+        "f_hz": z.frequency_hz, "H_zu_measured": z.response, "H_zu_model": exp.model["z"]}})
     metrics = {name: exp.model_error("z", band) for name, band in FRF_BANDS_HZ.items()}
     if exp.identification is not None:
         ident = exp.identification.summary()
@@ -145,8 +145,12 @@ def _controlled_metrics(result: ControlledRun, source: str, out_path: Path) -> d
         metrics.update({k: v for k, v in result.metrics.to_dict().items() if v is not None})
         metrics.update(tracking_metrics(run.z_meas, run.z_vs, run.loop_time))
     if run.trip is not None:
-        metrics.update(aborted=True, abort_reason=str(run.trip.as_exception()))
+        metrics.update(_aborted(run))
     return metrics
+
+
+def _aborted(run) -> dict[str, Any]:
+    return {"aborted": True, "abort_reason": str(run.trip.as_exception())}
 
 
 def run_tracking_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:

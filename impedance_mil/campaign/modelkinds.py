@@ -19,7 +19,8 @@ from typing import Any
 import h5py
 import numpy as np
 
-from ..design import controlled_table, design_controller, table_model, virtual_model
+from ..design import design_controller, table_model, virtual_model
+from ..design.io import save_design
 from ..design.forms import FORMS
 from ..plant import DELAYS, LinearTable, TableParameters
 from ..units import TWO_PI
@@ -115,16 +116,11 @@ DESIGN_DEFAULTS: dict[str, Any] = {
     "controller": {"fc_hz": 80.0, "form": "standardized"},
 }
 
-#: Frequencies at which the design kind stores the impedances [Hz].
-DESIGN_FREQUENCIES_HZ = np.logspace(-1, 3, 400)
-
-
 def run_design(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """Design the filtered MIL controller and evaluate constraints I, II, III (Section 9.4).
 
-    Writes the VS and controlled-table impedances [in/s^2 per lbf] and the
-    controlled table's force-velocity response [in/s per lbf] at
-    :data:`DESIGN_FREQUENCIES_HZ` to ``out_path``.
+    Writes the design file (:func:`impedance_mil.design.io.save_design`; it
+    can be loaded, exported and simulated) to ``out_path``.
 
     Returns
     -------
@@ -141,13 +137,7 @@ def run_design(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     form = ctrl["form"]
     design = design_controller(tm, None if form == "tracking" else vm, form=form,
                                fc_hz=float(ctrl["fc_hz"]), emit_warnings=False)
-    ct = controlled_table(tm, vm, design.H_uz, design.H_uw, form)
-    f = DESIGN_FREQUENCIES_HZ
-    with h5py.File(out_path, "w") as fh:
-        fh.create_dataset("f_hz", data=f)
-        fh.create_dataset("H_c", data=ct.impedance(f))
-        fh.create_dataset("H_vs", data=vm.H_zw.frequency_response(f))
-        fh.create_dataset("H_vw", data=ct.velocity_response(f))
+    save_design(design, out_path)
     result = design.constraints[0].to_dict()
     result.pop("fc_hz", None)
     result["m_vs_over_m_st"] = vs.m_vs / params.mass

@@ -3,7 +3,8 @@
 Layout of a campaign folder::
 
     DIR/campaign.json          the expanded campaign (name, kind, runs and their settings)
-    DIR/runs/<run_id>/run.h5   what each run wrote (one HDF5 file per run)
+    DIR/runs/<run_id>/<file>   what each run wrote: run.h5 (a lab run file: frf, tracking,
+                               mil), design.json (a design file), poles.h5, selftest.h5
     DIR/records/<run_id>.json  one record per finished run: status, metrics, error
     DIR/summary.csv, DIR/summary.parquet   one row per run (written at the end)
 
@@ -11,9 +12,9 @@ Layout of a campaign folder::
 canonical JSON (sorted keys, no spaces) of ``{"kind": ..., "config": ...}``:
 the same configuration always lands in the same place, so a campaign that is
 interrupted and started again skips every run whose record says ``ok`` or
-``aborted`` (and whose HDF5 file is there); failed runs are tried again.
+``aborted`` (and whose output file is there); failed runs are tried again.
 Every file is written under a temporary name and renamed, so a crash never
-leaves a half-written record or HDF5 file under its final name.
+leaves a half-written record or output file under its final name.
 """
 
 from __future__ import annotations
@@ -81,7 +82,8 @@ class RunRecord:
     error : str
         Why the run failed or aborted, one line; empty when ok.
     hdf5 : str
-        Path of the run's HDF5 file relative to the campaign folder; empty if none.
+        Path of the run's output file (see the module docstring; the name is
+        historical) relative to the campaign folder; empty if none.
     elapsed_s : float
         Wall-clock time of the run [s].
     worker : str
@@ -147,9 +149,9 @@ class CampaignStore:
         """Folder of one run's data."""
         return self.runs_dir / run_id
 
-    def hdf5_path(self, run_id: str) -> Path:
-        """Final path of one run's HDF5 file."""
-        return self.run_dir(run_id) / "run.h5"
+    def output_path(self, run_id: str, name: str) -> Path:
+        """Final path of one run's output file ``name`` (e.g. ``run.h5``, the kind's ``output``)."""
+        return self.run_dir(run_id) / name
 
     def record_path(self, run_id: str) -> Path:
         """Path of one run's record."""
@@ -163,7 +165,7 @@ class CampaignStore:
             return None
 
     def is_done(self, run_id: str) -> bool:
-        """Whether a run finished (ok or aborted) and its HDF5 file, if any, is present."""
+        """Whether a run finished (ok or aborted) and its output file, if any, is present."""
         record = self.load_record(run_id)
         if record is None or not record.done:
             return False

@@ -18,17 +18,15 @@ output without ``--overwrite``), with one line on stderr and nothing written.
 
 from __future__ import annotations
 
-from dataclasses import replace
 from pathlib import Path
 from typing import Any, Mapping, Optional
 
-import numpy as np
 import typer
 
 from ..errors import ConfigError, DataFileError
 from ..lab.metrics import evaluate_run, vs_force_history
 from ..lab.results import RunResult, load_run
-from ..report.html import ForceDisplacement, RunView, render_run_html, write_html
+from ..report.html import RunView, render_run_html, write_html
 from .common import console
 from .runopts import output_path, read_summary, run_summary
 
@@ -66,11 +64,8 @@ def write_report(run: RunResult, summary: Mapping[str, Any], path: Path, title: 
     loop, dashed red, to the table's (report Figures 9-2 to 9-28, panel c).
     """
     metrics = {key: summary[key] for key in PAGE_METRICS if summary.get(key) is not None}
-    view = RunView.from_result(run, title=title, metrics=metrics, m_vs=basemat_mass(run))
-    if loop:
-        model = ForceDisplacement("VS model", np.asarray(loop[MODEL_LOOP_KEYS[0]]),
-                                  np.asarray(loop[MODEL_LOOP_KEYS[1]]), role="model")
-        view = replace(view, loops=view.loops + (model,))
+    model = (loop[MODEL_LOOP_KEYS[0]], loop[MODEL_LOOP_KEYS[1]]) if loop else None
+    view = RunView.from_result(run, title=title, metrics=metrics, m_vs=basemat_mass(run), model_loop=model)
     return write_html(path, render_run_html(view))
 
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 import json
 import os
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Iterator, List, Mapping, Optional
 
@@ -34,7 +34,7 @@ from ..fileio import json_safe
 from ..lab.results import RunResult, save_run
 from ..lab.setup import SafetyLimits
 from ..plant import TableParameters, default_table_path
-from ..signals import GroundMotion, LimitCheck, MotionCheck, TableLimits, check_motion
+from ..signals import GroundMotion, MotionCheck, TableLimits, check_motion
 from ..specimens import FluidVessel, RigidMass, specimen_from_config
 from ..units import G0, in_s2_to_g, weight_to_mass
 from ..virtual import TEST_ARTICLE_WEIGHT
@@ -258,20 +258,15 @@ def overruns(check: MotionCheck) -> str:
                      for c in check.checks if not c.ok)
 
 
-def _peak_check(name: str, values: np.ndarray, limit: float, unit: str, time_step: float) -> LimitCheck:
-    k = int(np.argmax(values))
-    return LimitCheck(name, float(values[k]), float(limit), unit, bool(values[k] <= limit), k * time_step)
-
-
 def basemat_check(vs, motion: GroundMotion, params: TableParameters, limits: TableLimits,
                   specimen: SpecimenChoice) -> MotionCheck:
     """Stroke and velocity the table needs to follow the VS basemat in a MIL run (a prediction).
 
     The basemat's absolute acceleration comes from the VS model carrying the
     specimen as a rigid mass (``virtual.excitation.rigid_article_response``),
-    at the loop time; it is integrated from rest *without* baseline
-    correction, as the loop integrates it (``signals.check_motion`` always
-    baseline-corrects, which misjudges an excerpt that ends mid-shaking).  The
+    at the loop time; it is checked *without* baseline correction
+    (``check_motion(..., baseline_correct=False)``), as the loop integrates it
+    from rest (a correction misjudges an excerpt that ends mid-shaking).  The
     limits are the lab's interlocks where they are tighter than the table's
     capacity (stroke 3 in, Section 8.2).
     """
@@ -279,10 +274,11 @@ def basemat_check(vs, motion: GroundMotion, params: TableParameters, limits: Tab
     response = rigid_article_response(vs, gm.accel, gm.time_step, weight_to_mass(specimen.weight_lbf))
     basemat = GroundMotion(gm.time_step, response.z_vs, "VS basemat")
     interlocks = SafetyLimits()
-    stroke, velocity = min(limits.stroke_in, interlocks.stroke), min(limits.velocity_in_s, interlocks.velocity)
-    checks = [_peak_check("stroke", np.abs(basemat.displacement()), stroke, "in", gm.time_step),
-              _peak_check("velocity", np.abs(basemat.velocity()), velocity, "in/s", gm.time_step)]
-    return MotionCheck(all(c.ok for c in checks), checks, None, limits.force_lbf / (limits.moving_mass * G0))
+    lab = replace(limits, stroke_in=min(limits.stroke_in, interlocks.stroke),
+                  velocity_in_s=min(limits.velocity_in_s, interlocks.velocity))
+    full = check_motion(basemat, lab, baseline_correct=False)
+    checks = [full.check("stroke"), full.check("velocity")]
+    return MotionCheck(all(c.ok for c in checks), checks, None, full.max_pga_g)
 
 
 def pretest(params: TableParameters, specimen: SpecimenChoice, motion: GroundMotion,

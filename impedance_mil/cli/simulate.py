@@ -32,7 +32,7 @@ import numpy as np
 import typer
 
 from ..config import parse_overrides, quantity
-from ..errors import ConfigError, LimitTripped
+from ..errors import ConfigError
 from ..lab import ControlledRun, FrfExperiment, kp_study, run_frf, run_mil, run_tracking
 from ..plant import TableParameters
 from ..signals.multisine import design_multisine
@@ -45,7 +45,7 @@ from .runopts import (DEFAULT_FC_HZ, DEFAULT_MOTION, DEFAULT_TIME_SCALE, EXIT_AB
                       EXIT_INTERRUPTED, SPECIMEN_HELP, MotionChoice, Pretest, SpecimenChoice, Written,
                       activity, check_choice, design_lines, enforce_pretest, err_console,
                       feedback_choice, motion_choice, output_path, percent, pretest, run_summary,
-                      specimen_choice, table_parameters, write_run_file)
+                      specimen_choice, table_parameters, trip_text, write_run_file)
 
 TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default report Table 4.1.")
 SetOpt = typer.Option(None, "--set", help="Table value KEY=VALUE (repeatable), e.g. Kp=0.0006.")
@@ -346,34 +346,46 @@ def identified(exp: FrfExperiment) -> dict:
             "identification_error": exp.identification.rms_log_error}
 
 
+def kp_row(kp: float, exp: FrfExperiment) -> dict:
+    """One row of the K_p study: identified parameters and misfit (None after a trip, with the reason)."""
+    ident = identified(exp)
+    return {"Kp": kp, **{key: ident.get(key) for key in ("omega_oil_rad_s", "f_oil_hz", "zeta_oil", "d")},
+            "misfit": ident.get("identification_error"), "abort_reason": trip_text(exp.run)}
+
+
 def frf_document(exp: FrfExperiment, spec: SpecimenChoice, params: TableParameters, kps, study) -> dict:
-    """The JSON / stored summary of an FRF experiment."""
+    """The JSON / stored summary of an FRF experiment (no FRF figures after a trip)."""
     ms = exp.multisine
     f = ms.frequencies_hz
+    errors = {name: exp.model_error("z", band) for name, band in FRF_BANDS_HZ.items()} if exp.completed else {}
     return {
         "kind": "frf", "specimen": spec.label, "specimen_weight_lbf": spec.weight_lbf,
-        "simulated_s": exp.run.n_samples * exp.run.loop_time, "aborted": False, "abort_reason": None,
+        "simulated_s": exp.run.n_samples * exp.run.loop_time, "aborted": not exp.completed,
+        "abort_reason": trip_text(exp.run),
         "multisine": {"peak_in": float(np.max(np.abs(ms.period))), "lines": int(ms.lines.size),
                       "f_min_hz": float(f.min()), "f_max_hz": float(f.max()),
                       "period_s": ms.n_points / ms.sample_rate_hz, "n_periods": ms.n_periods,
                       "crest_factor": ms.crest_factor},
         "delay": exp.delay, "seed": exp.run.config.get("seed"),
-        **identified(exp),
-        **{name: exp.model_error("z", band) for name, band in FRF_BANDS_HZ.items()},
+        **identified(exp), **errors,
         "table_file": {"omega_oil_rad_s": params.omega_oil, "f_oil_hz": params.f_oil_hz,
                        "zeta_oil": params.zeta_oil, "d": params.d, "Kp": params.Kp},
-        "kp_study": [{"Kp": kp, **{k: v for k, v in identified(e).items() if k != "identification_error"},
-                      "misfit": e.identification.rms_log_error} for kp, e in zip(kps, study)],
+        "kp_study": [kp_row(kp, e) for kp, e in zip(kps, study)],
     }
 
 
 def frf_arrays(exp: FrfExperiment, doc: dict) -> dict:
-    """Arrays stored with an FRF run: the z/u FRF and the model, and the K_p study."""
-    z = exp.frf["z"]
-    arrays = {"frf": {"f_hz": z.frequency_hz, "H_zu_measured": z.response, "H_zu_model": exp.model["z"],
-                      "coherence_zu": z.coherence}}
+    """Arrays stored with an FRF run: the z/u FRF and the model (none after a trip), and the K_p study.
+
+    In ``kp_study`` a run stopped by an interlock has NaN parameters and misfit.
+    """
+    arrays = {}
+    if exp.completed:
+        z = exp.frf["z"]
+        arrays["frf"] = {"f_hz": z.frequency_hz, "H_zu_measured": z.response, "H_zu_model": exp.model["z"],
+                         "coherence_zu": z.coherence}
     if doc["kp_study"]:
-        arrays["kp_study"] = {key: np.array([row[key] for row in doc["kp_study"]])
+        arrays["kp_study"] = {key: np.array([row[key] for row in doc["kp_study"]], dtype=float)
                               for key in ("Kp", "f_oil_hz", "zeta_oil", "d", "misfit")}
     return arrays
 
@@ -392,11 +404,18 @@ def print_frf(doc: dict, path: Path) -> None:
         say(f"  d         {doc['d']:10.4g}                        table file: {ref['d']:g}")
         say(f"  misfit of the identified model {doc['identification_error']:.4f} "
             "(rms |log(H_model/H_meas)|; 0.01 is about 1 % or 0.6 deg)")
-    say(f"model error of the table file's linear model: 0.25-100 Hz {doc['model_error_0p25_100hz']:.4f}, "
-        f"10-50 Hz {doc['model_error_10_50hz']:.4f}")
+    if doc["aborted"]:
+        say(f"STOPPED by a safety interlock: {doc['abort_reason']}; {doc['simulated_s']:.3f} s of "
+            f"{ms['n_periods'] * ms['period_s']:.4g} s simulated, the data up to the trip are kept (no FRF)")
+    else:
+        say(f"model error of the table file's linear model: 0.25-100 Hz {doc['model_error_0p25_100hz']:.4f}, "
+            f"10-50 Hz {doc['model_error_10_50hz']:.4f}")
     if doc["kp_study"]:
         say("K_p study (Sections 4.5.3.1, 8.3.3): misfit of the identified model")
         for row in doc["kp_study"]:
+            if row["misfit"] is None:
+                say(f"  K_p {row['Kp']:8.4g} V/psi: stopped, {row['abort_reason']}")
+                continue
             say(f"  K_p {row['Kp']:8.4g} V/psi: misfit {row['misfit']:.4f}, f_oil {row['f_oil_hz']:.2f} Hz, "
                 f"zeta_oil {row['zeta_oil']:.4f}, d {row['d']:.4g}")
     say(f"wrote {path}")
@@ -420,7 +439,10 @@ def frf(
     as_json: bool = JsonOpt,
     overwrite: bool = OverwriteOpt,
 ) -> None:
-    """Multisine test of the table (Section 4.5): FRFs, identified omega_oil, zeta_oil, d, model error."""
+    """Multisine test of the table (Section 4.5): FRFs, identified omega_oil, zeta_oil, d, model error.
+
+    A run stopped by a safety interlock is written up to the trip (no FRF, no K_p study) and exits 3.
+    """
     params = table_parameters(table, sets)
     spec = specimen_choice(specimen, water_depth, specimen_weight)
     amplitude = quantity("--peak", peak, "inch", "positive")
@@ -438,6 +460,8 @@ def frf(
         with activity(not as_json, "frf: multisine test and identification", total=1 + len(kps)) as step:
             exp = run_frf(params, multisine=multisine, specimen=spec.specimen, delay=delay,
                           identify=spec.specimen is None, seed=seed)
+            if not exp.completed:
+                kps = []
             study = []
             for kp in kps:
                 step(f"K_p study: K_p = {kp:g} V/psi", advance=1)
@@ -446,16 +470,15 @@ def frf(
             step(f"writing {out}", advance=1)
             doc = frf_document(exp, spec, params, kps, study)
             write_run_file(exp.run, out, doc, frf_arrays(exp, doc))
-    except LimitTripped as exc:
-        err_console.print(f"imil: the multisine run was stopped by a safety interlock: {exc}; nothing "
-                          "written (lab.run_frf keeps no data of a tripped run)", markup=False)
-        if as_json:
-            print_json({"kind": "frf", "aborted": True, "abort_reason": str(exc), "file": None})
-        raise typer.Exit(EXIT_ABORTED) from None
     except KeyboardInterrupt:
         err_console.print("imil: interrupted (nothing written)", markup=False)
         raise typer.Exit(EXIT_INTERRUPTED) from None
+    if doc["aborted"]:
+        err_console.print(f"imil: the multisine run was stopped by a safety interlock: {doc['abort_reason']}; "
+                          f"the data up to the trip are in {out}", markup=False)
     if as_json:
         print_json({**doc, "file": str(out)})
     else:
         print_frf(doc, out)
+    if doc["aborted"]:
+        raise typer.Exit(EXIT_ABORTED)

@@ -164,5 +164,5 @@ def tune(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
     for key, value in data.items():
         if key != "stable":
             _say(f"{key:34s} {fmt.get(value, value) if value is None else f'{value:.6g}'}")
-    _say(f"(report Section 4.4: Ke 6.7 V/in, Kp > 0.0035 V/psi, break-away Ke 39.3 / "
-                  f"Kp 0.0006; model optimum K_p differs from the printed 0.001, see docs/errata.md)")
+    _say("(report Section 4.4: Ke 6.7 V/in, Kp > 0.0035 V/psi, break-away Ke 39.3 / "
+         "Kp 0.0006; model optimum K_p differs from the printed 0.001, see docs/errata.md)")

@@ -8,7 +8,8 @@ report call these.
 * :func:`run_frf`: multisine command (Section 4.5.2) through the table (bare
   or with a specimen), H1 FRFs of ``z``, ``x``, ``dP`` (and ``w``), the linear
   model's prediction (Eq 4-15; with a specimen, ``H_zu + H_zw W/U`` from the
-  measured force, Section 4.5.4) and the identified parameters.
+  measured force, Section 4.5.4) and the identified parameters.  A run
+  stopped by a safety limit is returned with ``run.trip`` set and no FRF.
 * :func:`kp_study`: :func:`run_frf` over K_p values and the misfit of the
   identified linear model at each (Sections 4.5.3.1, 8.3.3).
 * :func:`run_tracking`: ``z_vs = a_g`` with the tracking controller (Eq 1-6).
@@ -26,7 +27,7 @@ from ..errors import ConfigError
 from ..implement import MILRuntime, discretize
 from ..plant import TableParameters
 from ..plant.nonlinear import NonlinearTable
-from ..signals.frf import FRF, estimate_frf
+from ..signals.frf import estimate_frf
 from ..signals.multisine import Multisine, design_multisine
 from .identification import TableIdentification, identify_table, model_response
 from .loop import simulate
@@ -44,15 +45,17 @@ class FrfExperiment:
     Attributes
     ----------
     run : RunResult
-        The multisine run.
+        The multisine run (``run.trip`` is set when a safety limit stopped it;
+        the data up to the trip are kept).
     multisine : Multisine
         The command.
     frf : dict of str to FRF
-        Measured ``z/u`` [in/s^2/in], ``x/u`` [-], ``dp/u`` [psi/in] (and ``w/u`` [lbf/in]).
+        Measured ``z/u`` [in/s^2/in], ``x/u`` [-], ``dp/u`` [psi/in] (and ``w/u``
+        [lbf/in]); empty when the run tripped.
     model : dict of str to ndarray
-        Linear-model prediction at the same lines (complex).
+        Linear-model prediction at the same lines (complex); empty when the run tripped.
     identification : TableIdentification or None
-        Parameters identified from ``z/u`` (bare table only).
+        Parameters identified from ``z/u`` (bare table only; None when the run tripped).
     params : TableParameters
         Linear-model parameters the virtual table was built from.
     delay : str
@@ -67,8 +70,20 @@ class FrfExperiment:
     params: TableParameters
     delay: str
 
+    @property
+    def completed(self) -> bool:
+        """True when no safety limit stopped the run (the FRFs exist)."""
+        return self.run.completed
+
     def model_error(self, output: str = "z", band_hz=(0.25, 100.0)) -> float:
-        """RMS ``|log(H_model/H_meas)|`` over a band [Hz] (0.01 ~ 1 % / 0.6 deg)."""
+        """RMS ``|log(H_model/H_meas)|`` over a band [Hz] (0.01 ~ 1 % / 0.6 deg).
+
+        Raises
+        ------
+        LimitTripped
+            The run tripped, so there is no measured FRF.
+        """
+        self.run.raise_if_tripped()
         f = self.frf[output].frequency_hz
         keep = (f >= band_hz[0]) & (f <= band_hz[1])
         r = np.log(self.model[output][keep] / self.frf[output].response[keep])
@@ -84,8 +99,9 @@ class KpStudy:
 
     @property
     def misfit(self) -> np.ndarray:
-        """``rms_log_error`` of the identified model at each K_p."""
-        return np.array([e.identification.rms_log_error for e in self.experiments])
+        """``rms_log_error`` of the identified model at each K_p (NaN where the run tripped)."""
+        return np.array([np.nan if e.identification is None else e.identification.rms_log_error
+                         for e in self.experiments])
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,6 +162,13 @@ def run_frf(params: TableParameters, *, multisine: Multisine | None = None, spec
         Band of the identification [Hz].
     sensors, seed, substeps, limits, quantize
         As :func:`impedance_mil.lab.loop.simulate`.
+
+    Returns
+    -------
+    FrfExperiment
+        When a safety limit stops the run, ``run.trip`` says which and when,
+        and there are no FRFs, model prediction or identification (empty
+        dicts, None).
     """
     vt = _table(params, table, kp)
     p = params if kp is None else params.replace(Kp=kp)
@@ -156,7 +179,8 @@ def run_frf(params: TableParameters, *, multisine: Multisine | None = None, spec
     run = simulate(vt, command=ms.signal, specimen=specimen, sensors=sensors, seed=seed,
                    substeps=substeps, limits=limits, quantize=quantize,
                    config={"experiment": "frf"})
-    run.raise_if_tripped()
+    if run.trip is not None:
+        return FrfExperiment(run, ms, {}, {}, None, p, delay)
     est = {name: estimate_frf(run.u, run.channels[ch], ms.n_points, ms.sample_rate_hz,
                               lines=ms.lines) for name, ch in FRF_CHANNELS.items()}
     f = est["z"].frequency_hz

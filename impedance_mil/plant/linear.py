@@ -92,7 +92,7 @@ def closed_loop_state_space(p: TableParameters, delay: str = "first-order",
         if pade_order < 1:
             raise ConfigError("pade_order", "an integer >= 1", pade_order)
         Ad, bd, cd, dd = pade_state_space(tau, pade_order)
-        n, q = A.shape[0], Ad.shape[0]
+        q = Ad.shape[0]
         A_cl = np.block([
             [A - p.Kv * dd * np.outer(b_i, k), -p.Kv * np.outer(b_i, cd)],
             [np.outer(bd, k), Ad],

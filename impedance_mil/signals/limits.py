@@ -288,12 +288,13 @@ def required_rated_flow(velocity: np.ndarray, force: np.ndarray, limits: TableLi
     return q_eq
 
 
-def check_motion(motion: GroundMotion, limits: TableLimits, baseline_order: int = 3) -> MotionCheck:
+def check_motion(motion: GroundMotion, limits: TableLimits, baseline_order: int = 3,
+                 baseline_correct: bool = True) -> MotionCheck:
     """Check a ground motion against the table's stroke, velocity, force and flow limits.
 
-    The motion is baseline-corrected first (:meth:`GroundMotion.baseline_corrected`),
-    as it must be before it is sent to the table; displacement and velocity
-    come from that corrected record.
+    By default the motion is baseline-corrected first
+    (:meth:`GroundMotion.baseline_corrected`), as it must be before it is sent
+    to the table; displacement and velocity come from that corrected record.
 
     Parameters
     ----------
@@ -303,6 +304,10 @@ def check_motion(motion: GroundMotion, limits: TableLimits, baseline_order: int 
         Capacity of the table with its test article.
     baseline_order : int
         Order of the baseline correction polynomial.
+    baseline_correct : bool
+        False: check the motion as given, integrated from rest without
+        correction (how the virtual lab's loop integrates a target it
+        follows, e.g. a VS basemat acceleration).
 
     Returns
     -------
@@ -317,7 +322,7 @@ def check_motion(motion: GroundMotion, limits: TableLimits, baseline_order: int 
     >>> check_motion(gm1, TableLimits.report_default(specimen_weight=1200.0)).exceeded
     []
     """
-    corrected = motion.baseline_corrected(baseline_order)
+    corrected = motion.baseline_corrected(baseline_order) if baseline_correct else motion
     dt = corrected.time_step
     vel = corrected.velocity()
     force = limits.moving_mass * corrected.accel

@@ -16,6 +16,7 @@ import pytest
 
 from impedance_mil.campaign import (InlineExecutor, LocalExecutor, load_campaign, load_summary,
                                     run_campaign)
+from impedance_mil.design.io import load_design
 
 HEAD = '[campaign]\nname = "t"\nkind = "selftest"\n'
 
@@ -37,6 +38,24 @@ def test_selftest_reproduces_the_targets_of_table_9_1(sd_campaign, tmp_path):
     k, c, m = record.settings["stiffness"], record.settings["damping"], record.settings["mass"]
     assert re == pytest.approx([-c / (2 * m)] * 2, rel=1e-12)
     assert re[0] ** 2 + im[0] ** 2 == pytest.approx(k / m, rel=1e-12)
+
+
+def test_only_lab_kinds_write_run_files(make_campaign, tmp_path):
+    # A design run writes a design file (loadable, same f_c and verdicts as its record), not a
+    # "run.h5" that `imil report` would refuse; the selftest writes selftest.h5.
+    path = make_campaign('[campaign]\nname = "d"\nkind = "design"\n[[study]]\nname = "fc"\n'
+                         'product = { f_c = [60, 80] }\n')
+    result = run_campaign(load_campaign(path), tmp_path / "out", InlineExecutor())
+    for record in result.records:
+        assert record.status == "ok" and record.hdf5.endswith("/design.json")
+        design = load_design(result.root / record.hdf5)
+        assert design.fc_hz == record.settings["f_c"]
+        c = design.constraint_at(design.fc_hz)
+        assert (c.I, c.II, c.III) == (record.metrics["I"], record.metrics["II"], record.metrics["III"])
+    assert not list((tmp_path / "out").rglob("run.h5"))
+    selftest = run_campaign(load_campaign(make_campaign(HEAD + '[[study]]\nname = "one"\n', "s.toml")),
+                            tmp_path / "s", InlineExecutor())
+    assert [r.hdf5.rsplit("/", 1)[-1] for r in selftest.records] == ["selftest.h5"]
 
 
 def test_local_pool_gives_the_same_metrics_as_inline(sd_campaign, tmp_path):

@@ -101,3 +101,15 @@ def test_fema_substitutes_fit_the_stroke():
     for name in ("GM2", "GM3"):
         motion, source = report_motion(name)
         assert source.startswith("substitute FEMA P695") and motion.pgd < 1.5
+
+
+def test_a_tripped_frf_run_is_aborted_and_keeps_its_data(tmp_path):
+    # K_e = 60 V/in (twelve times Table 4.1's 5 V/in) makes the controlled table ring up
+    # under the multisine until the actuator-force interlock (6000 lbf) stops it within 0.1 s.
+    (tmp_path / "frf.toml").write_text('[campaign]\nname = "frf-trip"\nkind = "frf"\n'
+                                       '[[study]]\nname = "hot"\nset = { K_e = "60 V/in" }\n')
+    result = run_campaign(load_campaign(tmp_path / "frf.toml"), tmp_path / "out", InlineExecutor())
+    (record,) = result.records
+    assert record.status == "aborted" and "actuator_force" in record.error
+    run = load_run(result.root / record.hdf5)
+    assert run.trip.limit == "actuator_force" and run.trip.time_s < 0.1

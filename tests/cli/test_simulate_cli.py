@@ -225,13 +225,21 @@ def test_frf_identification_and_kp_study(tmp_path, monkeypatch, capsys):
     assert load_run(out).mode == "open"
 
 
-def test_frf_trip_exits_3_and_says_so(tmp_path, monkeypatch, capsys):
+def test_frf_trip_keeps_data_exits_3_and_says_so(tmp_path, monkeypatch, capsys):
     # A 3.5 in multisine asks for far more force than A_p (P_s - P_R) = 6300 lbf: an interlock trips.
     out = tmp_path / "frf.h5"
-    code, stdout, stderr = imil(monkeypatch, capsys, "frf", "--peak", "3.5", "-o", out, "--json")
-    assert code == EXIT_ABORTED and not out.exists()
+    code, stdout, stderr = imil(monkeypatch, capsys, "frf", "--peak", "3.5", "--kp-study", "-o", out, "--json")
+    assert code == EXIT_ABORTED and "interlock" in stderr
     doc = json.loads(stdout)
-    assert doc["aborted"] is True and "tripped at t =" in doc["abort_reason"] and "interlock" in stderr
+    assert doc["aborted"] is True and "tripped at t =" in doc["abort_reason"] and doc["file"] == str(out)
+    assert "f_oil_hz" not in doc and "model_error_0p25_100hz" not in doc and doc["kp_study"] == []
+    saved = load_run(out)                                   # the data up to the trip are kept
+    assert saved.trip is not None and f"{saved.trip.time_s:.4f}" in doc["abort_reason"]
+    assert saved.n_samples * saved.loop_time == pytest.approx(doc["simulated_s"], rel=1e-12)
+    summary, arrays = read_summary(out)
+    assert summary["aborted"] is True and arrays == {}      # no FRF of a tripped run
+    code, stdout, _ = imil(monkeypatch, capsys, "frf", "--peak", "3.5", "-o", out, "--overwrite")
+    assert code == EXIT_ABORTED and "STOPPED" in stdout and "no FRF" in stdout
 
 
 def test_script_entry_point_one_line_error(tmp_path):

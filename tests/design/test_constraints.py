@@ -9,7 +9,7 @@ from impedance_mil.design.passivity import is_passive_stable
 from impedance_mil.errors import DesignWarning
 from impedance_mil.systems import TransferFunction
 
-from .conftest import closed_form_table, sd_model, MST
+from .conftest import sd_model, MST
 
 # Table 9.5: SD2 with m_vs = 1.25 m_st, Ke = 5 V/in, Kp = 0.001 V/psi, tau = 500 us.
 TABLE_9_5 = {1000.0: (True, False, True), 250.0: (True, True, True),

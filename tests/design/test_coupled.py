@@ -1,16 +1,13 @@
 """Stability of the controlled table coupled with a given article (design/coupled.py), mass study."""
 
 import numpy as np
-import pytest
 import scipy.linalg
 
-from impedance_mil.design import virtual_model
 from impedance_mil.design.coupled import closed_loop_poles, coupled_stability
 from impedance_mil.design.feasibility import mass_ratio_study
 from impedance_mil.specimens import FluidVessel, RigidMass
 from impedance_mil.systems import TransferFunction
 from impedance_mil.units import G0
-from impedance_mil.virtual import presets
 
 from .conftest import MST, sd_model
 

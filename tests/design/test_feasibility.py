@@ -1,9 +1,7 @@
 """Design aids: feasible f_c range, --fc auto, basemat-mass study (Section 9.4.4), feasibility map."""
 
 import numpy as np
-import pytest
 
-from impedance_mil.design import DesignCriteria
 from impedance_mil.design.feasibility import choose_fc, feasibility_map, mass_ratio_study, scan_fc
 
 from .conftest import MST, sd_model

@@ -2,7 +2,6 @@
 
 import json
 
-import numpy as np
 import pytest
 
 from impedance_mil.design import design_controller, load_design, save_design

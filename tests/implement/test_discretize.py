@@ -13,7 +13,7 @@ from impedance_mil.implement import MILRuntime, discretize, with_leak
 from impedance_mil.signals import builtin_motion
 from impedance_mil.systems import TransferFunction
 
-from .conftest import FC_HZ, LOOP_TIME_S, broadband_record, standardized_controller
+from .conftest import FC_HZ, LOOP_TIME_S, broadband_record
 
 F_BELOW = np.array([0.05, 0.2, 1.0, 3.0, 10.0, 20.0, 40.0])  # Hz, up to f_c/2
 

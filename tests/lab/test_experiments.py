@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import scipy.signal
 
+from impedance_mil.errors import LimitTripped
 from impedance_mil.lab.experiments import kp_study, run_frf, run_mil, run_tracking
 from impedance_mil.lab.identification import identify_table
 from impedance_mil.lab.loop import simulate
@@ -103,6 +104,20 @@ def test_kp_study_low_gain_fits_worse(p):
         study = kp_study(p, kp_values=(0.0002, 0.001), multisine=ms, delay=delay)
         low, high = study.misfit
         assert low > 1.1 * high, delay
+
+
+def test_frf_trip_returns_the_data_up_to_the_trip(p):
+    # A 3.5 in multisine at up to 100 Hz asks for far more than A_p (P_s - P_R) = 6300 lbf:
+    # an interlock stops it; the experiment comes back with the trip and no FRF.
+    ms = _short_multisine(3.5)
+    e = run_frf(p, multisine=ms)
+    assert not e.completed and e.run.trip is not None
+    assert e.frf == {} and e.model == {} and e.identification is None
+    assert 0 < e.run.n_samples < ms.signal.size
+    assert e.run.trip.time_s == pytest.approx(e.run.n_samples * p.loop_time, abs=p.loop_time)
+    with pytest.raises(LimitTripped, match=e.run.trip.limit):
+        e.model_error("z")
+    assert np.isnan(kp_study(p, kp_values=(0.001,), multisine=ms).misfit[0])
 
 
 def test_frf_with_vessel_model_prediction(p):

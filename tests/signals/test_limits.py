@@ -108,6 +108,21 @@ def test_limit_check_fields_and_units():
         result.check("pressure")
 
 
+def test_uncorrected_check_of_a_constant_acceleration_by_hand():
+    # a = 10 in/s^2 for 2 s from rest: closed form v(T) = a T = 20 in/s, x(T) = a T^2 / 2 = 20 in,
+    # both at the last sample; exact for piecewise-linear integration (tolerance: rounding).
+    limits = TableLimits(3.0, 40.0, 5000.0, 5.0)
+    motion = GroundMotion(0.01, np.full(201, 10.0))
+    raw = check_motion(motion, limits, baseline_correct=False)
+    assert raw.check("stroke").peak == pytest.approx(20.0, rel=1e-12)
+    assert raw.check("velocity").peak == pytest.approx(20.0, rel=1e-12)
+    assert raw.check("stroke").time_s == pytest.approx(2.0) and raw.exceeded == ["stroke"]
+    # The default baseline correction removes the drift: the corrected record ends at rest.
+    corrected = check_motion(motion, limits)
+    assert corrected.check("stroke").peak < 0.1 * raw.check("stroke").peak
+    assert raw.check("force").peak == pytest.approx(5.0 * 10.0, rel=1e-12)     # moving mass x a
+
+
 def test_without_hydraulics_only_three_checks():
     limits = TableLimits(3.0, 40.0, 5000.0, 5.0)
     result = check_motion(builtin_motion("elcentro").time_scaled(2.0), limits)

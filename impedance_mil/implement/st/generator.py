@@ -63,7 +63,7 @@ def _controller(controller: DiscreteController, precision: str, real: str, inden
     decls = ("VAR CONSTANT\n    (* [[A - I, B], [C, D]] of H_uz (Az) and H_uw (Aw) *)\n"
              + "\n".join(dz + dw) + "\nEND_VAR\nVAR\n" + "\n".join(az + aw)
              + f"\n    t : ARRAY[0..{nmax - 1}] OF {real};\n    r : {real};\n    s : {real};\nEND_VAR")
-    body = [f"(* control input (position command) *)",
+    body = ["(* control input (position command) *)",
             f"u_z := {oz};", f"u_w := {ow};", "u := u_z + u_w;",
             "(* update of the controller states: H_uz with z_vs, H_uw with w *)", *uz, *uw]
     return decls, "\n".join(indent + line for line in body)
