@@ -22,6 +22,7 @@ from typing import Any, Mapping, Sequence
 import pint
 
 from .errors import ConfigError, DataFileError
+from .fileio import read_text
 from .units import PINT_DEFINITIONS
 
 _UREG = pint.UnitRegistry()
@@ -171,20 +172,11 @@ def read_toml(path: str | Path) -> dict[str, Any]:
     DataFileError
         The file is missing, unreadable or not valid TOML.
     """
-    p = Path(path)
+    text = read_text(path, "a TOML file")
     try:
-        with p.open("rb") as fh:
-            return tomllib.load(fh)
-    except FileNotFoundError:
-        raise DataFileError(p, "file not found") from None
-    except IsADirectoryError:
-        raise DataFileError(p, "is a directory, expected a TOML file") from None
-    except PermissionError:
-        raise DataFileError(p, "permission denied") from None
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise DataFileError(p, f"not valid TOML ({exc})") from None
-    except UnicodeDecodeError:
-        raise DataFileError(p, "not a text file") from None
+        raise DataFileError(path, f"not valid TOML ({exc})") from None
 
 
 def parse_overrides(items: Sequence[str] | None, *, option: str = "--set") -> dict[str, Any]:

@@ -1,4 +1,4 @@
-"""Files written whole or not at all, and JSON-safe values.
+"""Files written whole or not at all, text files read with one-line errors, and JSON-safe values.
 
 Every file the package writes goes through :func:`atomic_path` (or its
 shortcuts :func:`atomic_write_text` / :func:`atomic_write_bytes`): the data
@@ -15,7 +15,11 @@ never finds a temporary or left-over file; a library that picks the format
 from the suffix (matplotlib) must be told the format.  The file is created
 exclusively, with the permissions of the process umask.
 
-This module sits at the bottom of the package (standard library only).
+:func:`read_text` reads a UTF-8 file and turns every way it can fail into a
+one-line :class:`~impedance_mil.errors.DataFileError` naming the file.
+
+This module sits at the bottom of the package (standard library and
+:mod:`impedance_mil.errors` only).
 """
 
 from __future__ import annotations
@@ -28,6 +32,8 @@ from collections.abc import Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
+
+from .errors import DataFileError
 
 
 def temporary_name(path: str | os.PathLike, tag: str = "tmp") -> Path:
@@ -132,6 +138,38 @@ def atomic_directory(path: str | os.PathLike) -> Iterator[Path]:
     finally:
         if tmp.is_dir():
             shutil.rmtree(tmp)
+
+
+def read_text(path: str | os.PathLike, expected: str = "a text file") -> str:
+    """The UTF-8 text of the file at ``path``.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The file.
+    expected : str
+        What the file should be, for the message when ``path`` is a folder
+        (e.g. ``"a TOML file"``).
+
+    Raises
+    ------
+    DataFileError
+        One line naming the file: not found, a directory, permission denied,
+        not UTF-8 text, or another read error.
+    """
+    p = Path(path)
+    try:
+        return p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise DataFileError(p, "file not found") from None
+    except IsADirectoryError:
+        raise DataFileError(p, f"is a directory, expected {expected}") from None
+    except PermissionError:
+        raise DataFileError(p, "permission denied") from None
+    except UnicodeDecodeError:
+        raise DataFileError(p, "not a text file") from None
+    except OSError as exc:
+        raise DataFileError(p, f"unreadable ({exc.strerror or exc})") from None
 
 
 def json_safe(value: Any) -> Any:

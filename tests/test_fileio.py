@@ -7,8 +7,9 @@ import os
 import numpy as np
 import pytest
 
+from impedance_mil.errors import DataFileError
 from impedance_mil.fileio import (atomic_directory, atomic_path, atomic_write_bytes, atomic_write_text,
-                                  json_safe, temporary_name)
+                                  json_safe, read_text, temporary_name)
 
 
 class Boom(Exception):
@@ -123,3 +124,21 @@ def test_json_safe_uses_to_dict():
             return {"k": np.float32(0.5)}
 
     assert json_safe([Params()]) == [{"k": 0.5}]
+
+
+@pytest.mark.parametrize("make, problem", [
+    (lambda p: None, "file not found"),
+    (lambda p: p.mkdir(), "is a directory, expected a TOML file"),
+    (lambda p: p.write_bytes(b"\xff\xfe\x00bad"), "not a text file"),
+])
+def test_read_text_errors_are_one_line_and_name_the_file(tmp_path, make, problem):
+    path = tmp_path / "x.toml"
+    make(path)
+    with pytest.raises(DataFileError) as exc:
+        read_text(path, "a TOML file")
+    assert str(exc.value) == f"{path}: {problem}"
+
+
+def test_read_text_reads_utf8(tmp_path):
+    (tmp_path / "a.txt").write_bytes("µs\n".encode("utf-8"))
+    assert read_text(tmp_path / "a.txt") == "µs\n"

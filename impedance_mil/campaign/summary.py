@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..errors import DataFileError
-from ..fileio import atomic_write_bytes, atomic_write_text
+from ..fileio import atomic_write_bytes, atomic_write_text, read_text
 from .spec import CampaignSpec
 from .store import CampaignStore
 
@@ -208,10 +208,7 @@ def read_csv_summary(path: Path) -> SummaryTable:
     DataFileError
         The file is missing or lacks the fixed columns.
     """
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as exc:
-        raise DataFileError(path, exc.strerror or "unreadable") from None
+    text = read_text(path, "a campaign summary (CSV)")
     reader = csv.reader(io.StringIO(text))
     header = next(reader, [])
     if tuple(header[: len(FIXED_COLUMNS)]) != FIXED_COLUMNS:

@@ -35,6 +35,14 @@ def _say(text: str) -> None:
     console.print(text, markup=False)
 
 
+def _wrote(path: Path, as_json: bool) -> None:
+    """Report a written file: ``{"file": ...}`` with ``--json``, else ``wrote PATH``."""
+    if as_json:
+        print_json({"file": str(path)})
+    else:
+        _say(f"wrote {path}")
+
+
 def load_params(table: Optional[Path], sets: Optional[List[str]]) -> TableParameters:
     """Parameters from ``--table`` and ``--set`` (errors name the key or file)."""
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
@@ -115,11 +123,7 @@ def bode(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
          fmax: float = typer.Option(200.0, "--fmax", help="Highest frequency [Hz].")) -> None:
     """Bode plots of the six transfer functions (PNG)."""
     p = load_params(table, set)
-    table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax)
-    if json:
-        print_json({"file": str(out)})
-    else:
-        _say(f"wrote {out}")
+    _wrote(table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax), json)
 
 
 @app.command()
@@ -130,11 +134,7 @@ def rlocus(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
            out: Path = typer.Option(Path("table-rlocus.png"), "-o", "--out", help="PNG file.")) -> None:
     """Root locus of the five poles for a K_e, K_p or loop-time sweep (PNG)."""
     p = load_params(table, set)
-    table_plots.save_root_locus(p, param, out, upper=upper)
-    if json:
-        print_json({"file": str(out)})
-    else:
-        _say(f"wrote {out}")
+    _wrote(table_plots.save_root_locus(p, param, out, upper=upper), json)
 
 
 @app.command()

@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import DataFileError
-from ..fileio import atomic_write_text, json_safe
+from ..fileio import atomic_write_text, json_safe, read_text
 from ..systems import TransferFunction
 from .constraints import ConstraintResult
 from .controller import ControllerDesign, FilterSpec
@@ -88,14 +88,9 @@ def load_design(path: str | os.PathLike) -> ControllerDesign:
         missing field, or a malformed transfer function.
     """
     p = Path(path)
+    text = read_text(p, "a design file")
     try:
-        doc = json.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise DataFileError(p, "file not found") from None
-    except IsADirectoryError:
-        raise DataFileError(p, "is a directory, expected a design file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DataFileError(p, f"unreadable ({exc})") from None
+        doc = json.loads(text)
     except json.JSONDecodeError as exc:
         raise DataFileError(p, f"not valid JSON ({exc.msg} at line {exc.lineno})") from None
     return design_from_dict(doc, p)

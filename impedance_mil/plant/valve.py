@@ -19,6 +19,7 @@ import numpy as np
 import scipy.optimize
 
 from ..errors import DataFileError
+from ..fileio import read_text
 
 #: Packaged example curve (synthetic, see impedance_mil/data/valve/PROVENANCE.md).
 EXAMPLE_CURVE = Path(__file__).resolve().parent.parent / "data" / "valve" / "mts_252_25_synthetic.csv"
@@ -58,10 +59,7 @@ def read_valve_curve(path: str | Path) -> ValveCurve:
         non-increasing frequencies, non-positive amplitude ratios, fewer than 3 points.
     """
     p = Path(path)
-    try:
-        text = p.read_text()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DataFileError(p, f"cannot read valve curve ({exc.__class__.__name__})") from None
+    text = read_text(p, "a valve-curve file (CSV)")
     rows = list(csv.reader(line for line in text.splitlines() if line.strip() and not line.startswith("#")))
     if not rows:
         raise DataFileError(p, "empty valve curve")

@@ -34,7 +34,7 @@ import numpy as np
 
 from ..config import quantity
 from ..errors import ConfigError, DataFileError
-from ..fileio import atomic_path
+from ..fileio import atomic_path, read_text
 from ..units import G0
 from .motion import GroundMotion
 
@@ -89,17 +89,7 @@ BUILTIN_MOTIONS: dict[str, BuiltinRecord] = {
 
 
 def _read_text(path: Path) -> list[str]:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise DataFileError(path, "file not found") from None
-    except IsADirectoryError:
-        raise DataFileError(path, "is a directory, expected a ground-motion file") from None
-    except PermissionError:
-        raise DataFileError(path, "permission denied") from None
-    except UnicodeDecodeError:
-        raise DataFileError(path, "not a text file") from None
-    lines = text.splitlines()
+    lines = read_text(path, "a ground-motion file").splitlines()
     if not any(line.strip() for line in lines):
         raise DataFileError(path, "empty file")
     return lines
