@@ -276,7 +276,10 @@ class RunView:
         status = "completed" if trip is None else (
             f"stopped: limit '{trip.limit}' tripped at t = {trip.time_s:.4f} s")
         config = dict(getattr(result, "config", {}) or {})
-        name = title or f"{getattr(result, 'mode', 'run')} run: {config.get('motion', '')}".strip(": ")
+        motion = config.get("motion", "")
+        if isinstance(motion, Mapping):  # the lab stores the motion's description as a mapping
+            motion = motion.get("name", "")
+        name = title or f"{getattr(result, 'mode', 'run')} run: {motion}".strip(": ")
         return cls.from_channels(result.channels, title=name, metrics=metrics, config=config,
                                  status=status, m_vs=m_vs, model_loop=model_loop)
 

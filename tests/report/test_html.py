@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -64,3 +65,15 @@ def test_html_escapes_text():
 def test_flatten_nested_configuration():
     assert flatten({"a": {"b": 1, "c": {"d": 2}}, "e": list(range(20))}) == {
         "a.b": 1, "a.c.d": 2, "e": "[20 values]"}
+
+
+def test_run_title_names_the_motion_not_its_description_dict():
+    # The lab stores config["motion"] as a mapping (name, source, time step ...); the page title
+    # must show the record's name, not the mapping's repr.
+    t = np.arange(200) * 0.0005
+    channels = {"t": t, "z": np.sin(t), "z_vs": np.sin(t), "a_g": np.sin(t), "x": 0 * t, "w": 0 * t,
+                "u_w": 0 * t}
+    result = SimpleNamespace(mode="mil", channels=channels, trip=None, loop_time=0.0005,
+                             config={"motion": {"name": "El Centro (RSN 6)", "pga_g": 0.6}})
+    view = RunView.from_result(result)
+    assert view.title == "mil run: El Centro (RSN 6)"
