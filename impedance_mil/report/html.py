@@ -122,6 +122,11 @@ def flatten(mapping: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
         name = f"{prefix}{key}"
         if isinstance(value, Mapping):
             out.update(flatten(value, name + "."))
+        elif isinstance(value, (list, tuple)) and value and all(isinstance(v, Mapping) for v in value):
+            # A list of records (e.g. the sensor channels): one dotted row per record field,
+            # keyed by the record's name when it has one.
+            for i, item in enumerate(value):
+                out.update(flatten(item, f"{name}[{item.get('name', i)}]."))
         elif isinstance(value, (list, tuple)) and len(value) > 8:
             out[name] = f"[{len(value)} values]"
         else:

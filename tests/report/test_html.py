@@ -77,3 +77,9 @@ def test_run_title_names_the_motion_not_its_description_dict():
                              config={"motion": {"name": "El Centro (RSN 6)", "pga_g": 0.6}})
     view = RunView.from_result(result)
     assert view.title == "mil run: El Centro (RSN 6)"
+
+
+def test_flatten_lists_of_records_row_by_row():
+    rows = flatten({"sensors": [{"name": "accelerometer", "scale": 259.1}, {"scale": 2.0}], "n": [1, 2]})
+    assert rows == {"sensors[accelerometer].name": "accelerometer", "sensors[accelerometer].scale": 259.1,
+                    "sensors[1].scale": 2.0, "n": [1, 2]}
