@@ -137,7 +137,7 @@ def run_frf(params: TableParameters, *, multisine: Multisine | None = None, spec
             table: NonlinearTable | None = None, kp: float | None = None,
             delay: str = "first-order", identify: bool = True,
             free=("f_oil_hz", "zeta_oil", "d"), f_range_hz=(0.25, 100.0), sensors=None,
-            seed: int = 0, substeps: int = 2, limits=None, quantize: bool = True
+            seed: int = 0, substeps: int | str = "auto", limits=None, quantize: bool = True
             ) -> FrfExperiment:
     """Frequency-response experiment of Section 4.5 on the virtual table.
 
@@ -230,7 +230,7 @@ def _controlled(params, motion, runtime, design, *, specimen, table, feedback, s
 def run_tracking(params: TableParameters, motion, *, specimen=None, fc_hz: float = 80.0,
                  feedback: str = "lc", compensate: bool = True, table=None,
                  precision: str = "single", leak_hz: float | None = None, sensors=None,
-                 seed: int = 0, substeps: int = 2, limits=None) -> ControlledRun:
+                 seed: int = 0, substeps: int | str = "auto", limits=None) -> ControlledRun:
     """Acceleration tracking, ``z_vs = a_g`` (Section 8, Eq 1-6).
 
     Parameters
@@ -263,7 +263,7 @@ def run_tracking(params: TableParameters, motion, *, specimen=None, fc_hz: float
 
 def run_mil(params: TableParameters, vs, motion, *, specimen=None, fc_hz: float = 80.0,
             feedback: str = "lc", table=None, precision: str = "single",
-            leak_hz: float | None = None, sensors=None, seed: int = 0, substeps: int = 2,
+            leak_hz: float | None = None, sensors=None, seed: int = 0, substeps: int | str = "auto",
             limits=None) -> ControlledRun:
     """MIL run imitating the virtual system ``vs`` (Section 9; standardized controller).
 

@@ -27,6 +27,7 @@ from .kernels import (CHANNELS, FEEDBACK_FE, FEEDBACK_LC, MODE_MIL, MODE_OPEN, M
 from .plant_interface import PlantInterface, VirtualTable, specimen_arrays
 from .results import RunResult, Trip
 from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
+from .substeps import resolve_substeps
 
 _FEEDBACK = {"lc": FEEDBACK_LC, "fe": FEEDBACK_FE}
 _MODES = {MODE_OPEN: "open", MODE_TRACK: "track", MODE_MIL: "mil"}
@@ -63,10 +64,10 @@ def _vs_names(runtime) -> tuple:
     return tuple(names) if names else tuple(f"s{i}" for i in range(vs.n_states))
 
 
-def _config(table, specimen, runtime, sensors, limits, substeps, seed, feedback, quantize,
+def _config(table, specimen, runtime, sensors, limits, substeps: dict, seed, feedback, quantize,
             extra) -> dict:
     cfg = {"table": asdict(table), "sensors": sensors.to_dict(), "limits": limits.to_dict(),
-           "substeps": substeps, "seed": seed, "feedback": feedback, "quantize": quantize}
+           **substeps, "seed": seed, "feedback": feedback, "quantize": quantize}
     for key, obj in (("specimen", specimen), ("vs", getattr(runtime, "vs", None))):
         if obj is not None:
             cfg[key] = obj.to_dict() if hasattr(obj, "to_dict") else repr(obj)
@@ -90,7 +91,7 @@ def _controller_arrays(runtime):
 
 def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feedback: str = "lc",
              sensors=None, limits: SafetyLimits | None = None,
-             substeps: int = 2, seed: int = 0, quantize: bool = True,
+             substeps: int | str = "auto", seed: int = 0, quantize: bool = True,
              config: dict | None = None) -> RunResult:
     """Run the compiled sampled-data loop.
 
@@ -112,8 +113,13 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
         Default :func:`~impedance_mil.lab.setup.default_sensors` (Table 7.1, 16 bits, 1 mV noise).
     limits : SafetyLimits, optional
         Default interlocks.
-    substeps : int
-        RK4 substeps per loop.
+    substeps : int or "auto"
+        RK4 substeps per loop; ``"auto"`` chooses the smallest count that keeps
+        RK4's step error on the coupled plant's fastest mode within
+        :data:`~impedance_mil.lab.substeps.RK4_STEP_TOLERANCE`
+        (:func:`~impedance_mil.lab.substeps.choose_substeps`).  The count used
+        is stored in ``config["substeps"]`` (``config["substeps_rule"]`` says
+        which way it was chosen).
     seed : int
         Sensor-noise seed.
     quantize : bool
@@ -128,8 +134,7 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     """
     if feedback not in _FEEDBACK:
         raise ConfigError("feedback", "'lc' (load cells) or 'fe' (force equilibrium)", feedback)
-    if int(substeps) < 1:
-        raise ConfigError("substeps", "a positive number of RK4 substeps", substeps)
+    nsub, sub_cfg = resolve_substeps(substeps, table, specimen)
     sensors = sensors or default_sensors()
     sens = sensor_arrays(sensors, feedback, quantize)
     limits = limits or SafetyLimits()
@@ -144,7 +149,7 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     rec = np.empty((len(CHANNELS), n))
     vs_rec = np.zeros((n, ctrl[8].size))
     status = np.zeros(3)
-    run_loop(mode, _FEEDBACK[feedback], table.parameter_array(), int(substeps), y, *spec,
+    run_loop(mode, _FEEDBACK[feedback], table.parameter_array(), nsub, y, *spec,
              sens, noise, limits.array(table), ag, cmd, *ctrl, rec, vs_rec,
              np.zeros((5, n_y)), status)
     done = int(status[0])
@@ -155,7 +160,7 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
         channels={name: rec[i, :done] for i, name in enumerate(CHANNELS)},
         vs_states=vs_rec[:done].astype(float), vs_state_names=_vs_names(runtime),
         mode=_MODES[mode], loop_time=table.loop_time, trip=trip,
-        config=_config(table, specimen, runtime, sensors, limits, substeps, seed, feedback,
+        config=_config(table, specimen, runtime, sensors, limits, sub_cfg, seed, feedback,
                        quantize, config))
 
 

@@ -21,6 +21,7 @@ from ..plant.nonlinear import IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES, va
 from .kernels import (M_DP, M_W, M_WFE, M_WLC, M_X, M_Z, M_ZM, TRIP_NAMES,
                       check_limits, plant_advance, plant_sense)
 from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
+from .substeps import resolve_substeps, specimen_state_space
 
 
 @dataclass(frozen=True)
@@ -85,13 +86,11 @@ def specimen_arrays(specimen) -> tuple:
     if specimen is None:
         return (np.zeros(0), np.zeros(0, np.int64), np.zeros(1, np.int64), np.zeros(0),
                 np.zeros(0), 0.0)
-    ss = specimen.state_space() if hasattr(specimen, "state_space") else specimen
-    A = np.asarray(ss.A, dtype=float).reshape(np.size(ss.B), np.size(ss.B))
+    A, B, C, D = specimen_state_space(specimen)
     rows, cols = np.nonzero(A)
     ptr = np.searchsorted(rows, np.arange(A.shape[0] + 1)).astype(np.int64)
     return (np.ascontiguousarray(A[rows, cols]), cols.astype(np.int64), ptr,
-            np.ascontiguousarray(ss.B, dtype=float), np.ascontiguousarray(ss.C, dtype=float),
-            float(ss.D))
+            np.ascontiguousarray(B), np.ascontiguousarray(C), D)
 
 
 class VirtualTable:
@@ -111,15 +110,16 @@ class VirtualTable:
         16-bit quantization of the sensors.
     limits : SafetyLimits
         Interlocks.
-    substeps : int
-        RK4 substeps per loop.
+    substeps : int or "auto"
+        RK4 substeps per loop (``"auto"``: :func:`~impedance_mil.lab.substeps.choose_substeps`).
     seed : int
         Seed of the sensor noise (numpy ``default_rng``; one row of
         ``n_channels`` normals per loop, as in the compiled loop).
     """
 
     def __init__(self, table, specimen=None, sensors=None, limits: SafetyLimits | None = None,
-                 substeps: int = 2, seed: int = 0, feedback: str = "lc", quantize: bool = True):
+                 substeps: int | str = "auto", seed: int = 0, feedback: str = "lc",
+                 quantize: bool = True):
         self.table = table
         self.loop_time = table.loop_time
         self._pa = table.parameter_array()
@@ -129,7 +129,7 @@ class VirtualTable:
         self._sens = sensor_arrays(self.sensors, feedback, quantize)
         self._readings = np.zeros(self.sensors.n_channels)
         self._lim = (limits or SafetyLimits()).array(table)
-        self.substeps = int(substeps)
+        self.substeps = resolve_substeps(substeps, table, specimen)[0]
         self.seed = seed
         n = N_TABLE_STATES + self._C.size
         self.y = np.zeros(n)

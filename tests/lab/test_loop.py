@@ -168,8 +168,8 @@ def test_bad_run_file(tmp_path):
 
 def test_rk4_agrees_with_solve_ivp_reference(table):
     # Independent integrator: scipy RK45 (rtol 1e-8) between ticks vs the compiled
-    # RK4 (2 substeps); exact sensors; 0.3 s of a 3 Hz + 31 Hz command with the
-    # vessel.  Agreement 1e-3 of the peak acceleration (measured ~1e-4).
+    # RK4 (default "auto": 2 substeps with 36 in of water); exact sensors; 0.3 s of a
+    # 3 Hz + 31 Hz command with the vessel.  Agreement 1e-3 of the peak acceleration (measured ~1e-4).
     u = _command(600)
     vessel = FluidVessel.report_default()
     ref = simulate_interface(ScipyTable(table, specimen=vessel, sensors=ideal_sensors(),
