@@ -38,6 +38,9 @@ from ..plant.nonlinear import (IX_P1, IX_P2, IX_S, IX_SD, IX_V, IX_X, N_TABLE_ST
                                PA_AREA, PA_KV, PA_LOOP, PA_MASS, PA_UVMAX, table_acceleration,
                                table_derivative, table_rates, valve_command)
 
+#: Specimen kinds (how :func:`plant_advance` evaluates the specimen): a general
+#: state space in compressed-row form, or a bank of base-excited oscillators.
+SPEC_CSR, SPEC_BANK = 0, 1
 #: Loop modes.
 MODE_OPEN, MODE_TRACK, MODE_MIL = 0, 1, 2
 #: Feedback sources of w: reaction load cells or force equilibrium (Section 8.3.2, App. C).
@@ -84,10 +87,11 @@ def specimen_rates(Av, Ac, Ap, Bs, ys, z, out):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, out):
+def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, out):
     """Derivative of the table + specimen state; returns the table acceleration z [in/s^2].
 
-    Specimen arrays as in :func:`specimen_rates`; this is the derivative that
+    Specimen arrays as in :func:`plant_advance` (the general compressed-row
+    form is used whatever ``kind``); this is the derivative that
     :func:`plant_advance` integrates (there with the table states in registers).
     """
     ws = specimen_force_state(Cs, y[N_TABLE_STATES:])
@@ -98,15 +102,104 @@ def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, out):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work):
+def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, dt, nsub, work):
     """Advance the plant state ``y`` by ``dt`` [s]: ``nsub`` RK4 steps, valve current held [mA].
+
+    Specimen arrays of :func:`impedance_mil.lab.plant_interface.specimen_arrays`:
+    the state space ``(Av, Ac, Ap, Bs, Cs, Ds)`` (A in compressed-row form,
+    :func:`specimen_rates`) and, for ``kind == SPEC_BANK``, the oscillator
+    coefficients ``osc_k = -omega_i^2`` [1/s^2] and ``osc_c = -2 zeta_i
+    omega_i`` [1/s] of a bank of base-excited oscillators (states: relative
+    displacements q [in], then velocities q' [in/s]; ``q_i'' = -z + osc_k_i
+    q_i + osc_c_i q_i'``).  Both kinds take the same RK4 stages; the bank
+    evaluates them in one loop per stage (:func:`advance_bank`), the general
+    form in :func:`advance_csr`.  ``work`` is a (5, len(y)) scratch array.
+    """
+    if kind == SPEC_BANK:
+        advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work)
+    else:
+        advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work):
+    """:func:`plant_advance` for a bank of oscillators (``kind == SPEC_BANK``).
+
+    Per RK4 stage one loop over the oscillators evaluates the stage
+    derivative, adds it to the RK4 sum, forms the next stage's state and the
+    state part of its interface force ``w_s = sum C_i y_i`` [lbf] (the
+    force is then a by-product of the loop that forms the state).  Same
+    stages as :func:`advance_csr`; the force's sum is taken in another
+    order, so results agree to round-off, not to the last bit.
+    """
+    h = dt / nsub
+    n = osc_k.shape[0]
+    ys = y[N_TABLE_STATES:]
+    acc, tmp = work[0], work[1]
+    x, v, p1, p2, s, sd = y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD]
+    for _ in range(nsub):
+        ws = 0.0
+        for i in range(n):
+            ws += Cs[i] * ys[i] + Cs[n + i] * ys[n + i]
+        z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current, ws, Ds)
+        ws = 0.0
+        for i in range(n):
+            q, qd = ys[i], ys[n + i]
+            dq, dqd = qd, -z1 + osc_k[i] * q + osc_c[i] * qd
+            acc[i], acc[n + i] = dq, dqd
+            tq, tqd = q + 0.5 * h * dq, qd + 0.5 * h * dqd
+            tmp[i], tmp[n + i] = tq, tqd
+            ws += Cs[i] * tq + Cs[n + i] * tqd
+        x2, v2, p12, p22, s2, sd2 = (x + 0.5 * h * v, v + 0.5 * h * z1, p1 + 0.5 * h * e1,
+                                     p2 + 0.5 * h * f1, s + 0.5 * h * sd, sd + 0.5 * h * g1)
+        z2, e2, f2, g2 = table_rates(pa, x2, v2, p12, p22, s2, sd2, current, ws, Ds)
+        ws = 0.0
+        for i in range(n):
+            q, qd = tmp[i], tmp[n + i]
+            dq, dqd = qd, -z2 + osc_k[i] * q + osc_c[i] * qd
+            acc[i] += 2.0 * dq
+            acc[n + i] += 2.0 * dqd
+            tq, tqd = ys[i] + 0.5 * h * dq, ys[n + i] + 0.5 * h * dqd
+            tmp[i], tmp[n + i] = tq, tqd
+            ws += Cs[i] * tq + Cs[n + i] * tqd
+        x3, v3, p13, p23, s3, sd3 = (x + 0.5 * h * v2, v + 0.5 * h * z2, p1 + 0.5 * h * e2,
+                                     p2 + 0.5 * h * f2, s + 0.5 * h * sd2, sd + 0.5 * h * g2)
+        z3, e3, f3, g3 = table_rates(pa, x3, v3, p13, p23, s3, sd3, current, ws, Ds)
+        ws = 0.0
+        for i in range(n):
+            q, qd = tmp[i], tmp[n + i]
+            dq, dqd = qd, -z3 + osc_k[i] * q + osc_c[i] * qd
+            acc[i] += 2.0 * dq
+            acc[n + i] += 2.0 * dqd
+            tq, tqd = ys[i] + h * dq, ys[n + i] + h * dqd
+            tmp[i], tmp[n + i] = tq, tqd
+            ws += Cs[i] * tq + Cs[n + i] * tqd
+        x4, v4, p14, p24, s4, sd4 = (x + h * v3, v + h * z3, p1 + h * e3, p2 + h * f3,
+                                     s + h * sd3, sd + h * g3)
+        z4, e4, f4, g4 = table_rates(pa, x4, v4, p14, p24, s4, sd4, current, ws, Ds)
+        for i in range(n):
+            q, qd = tmp[i], tmp[n + i]
+            ys[i] += h / 6.0 * (acc[i] + qd)
+            ys[n + i] += h / 6.0 * (acc[n + i] + (-z4 + osc_k[i] * q + osc_c[i] * qd))
+        x += h / 6.0 * (v + 2.0 * v2 + 2.0 * v3 + v4)
+        v += h / 6.0 * (z1 + 2.0 * z2 + 2.0 * z3 + z4)
+        p1 += h / 6.0 * (e1 + 2.0 * e2 + 2.0 * e3 + e4)
+        p2 += h / 6.0 * (f1 + 2.0 * f2 + 2.0 * f3 + f4)
+        s += h / 6.0 * (sd + 2.0 * sd2 + 2.0 * sd3 + sd4)
+        sd += h / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4)
+    y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD] = x, v, p1, p2, s, sd
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work):
+    """:func:`plant_advance` for a general specimen state space (``kind == SPEC_CSR``).
 
     Classical RK4 on :func:`coupled_derivative`, written out with the six
     table states as scalars (:func:`~impedance_mil.plant.nonlinear.table_rates`)
-    and the specimen states in ``work``, a (5, len(y)) scratch array; the
-    operations and their order are those of the array form, so results are
-    the same to the last bit.  (The four stages are spelled out on purpose:
-    a stage helper passing the states as tuples measured ~30 % slower.)
+    and the specimen states in ``work``; the operations and their order are
+    those of the array form, so results are the same to the last bit.  (The
+    four stages are spelled out on purpose: a stage helper passing the
+    states as tuples measured ~30 % slower.)
     """
     h = dt / nsub
     m = Bs.shape[0]
@@ -203,8 +296,8 @@ def check_limits(pa, lim, y, meas, uv, sat_ticks):
 
 
 @njit(cache=True, error_model="numpy")
-def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, sens, noise, lim, a_g, command,
-             m_z, m_w, s_z, s_w, tmp, compensated, kind_code, vs_params, x_vs, vs_work,
+def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc_k, osc_c, sens,
+             noise, lim, a_g, command, m_z, m_w, s_z, s_w, tmp, compensated, kind_code, vs_params, x_vs, vs_work,
              rec, vs_rec, work, status):
     """The compiled sampled-data loop (module docstring); one code path for every setup.
 
@@ -223,6 +316,8 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, sens, noise, l
     Av, Ac, Ap, Bs, Cs, Ds
         Specimen state space (input z [in/s^2], output w [lbf]); A in
         compressed-row form (:func:`impedance_mil.lab.plant_interface.specimen_arrays`).
+    spec_kind, osc_k, osc_c
+        SPEC_CSR, or SPEC_BANK with the oscillator coefficients (:func:`plant_advance`).
     sens : tuple
         Sensor arrays (:func:`impedance_mil.lab.setup.sensor_arrays`).
     noise : ndarray (n, n_channels)
@@ -311,4 +406,5 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, sens, noise, l
         rec[C_XM, k] = meas[M_X]
         rec[C_DPM, k] = meas[M_DP]
         rec[C_ZM, k] = meas[M_ZM]
-        plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work)
+        plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc_k, osc_c, current, dt, nsub,
+                      work)

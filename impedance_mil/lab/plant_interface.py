@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import LimitTripped
 from ..plant.nonlinear import IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES, valve_command
-from .kernels import (M_DP, M_W, M_WFE, M_WLC, M_X, M_Z, M_ZM, TRIP_NAMES,
+from .kernels import (M_DP, M_W, M_WFE, M_WLC, M_X, M_Z, M_ZM, SPEC_BANK, SPEC_CSR, TRIP_NAMES,
                       check_limits, plant_advance, plant_sense)
 from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
 from .substeps import resolve_substeps, specimen_state_space
@@ -75,22 +75,51 @@ class PlantInterface(Protocol):
         """Let one loop time pass."""
 
 
-def specimen_arrays(specimen) -> tuple:
-    """Kernel arrays ``(A_val, A_col, A_ptr, B, C, D)`` of a specimen (input z, output w).
+def specimen_arrays(specimen, oscillator_bank: bool = True) -> tuple:
+    """Kernel arrays ``(A_val, A_col, A_ptr, B, C, D, kind, osc_k, osc_c)`` of a specimen.
 
-    ``A`` is stored in compressed-row form (most specimens are sparse: a
-    vessel's 8x8 matrix has 12 nonzeros); ``specimen`` is an object with
-    ``state_space()`` or a state space with ``A, B, C, D``; ``None`` gives no
-    states and ``w = 0``.
+    Input z [in/s^2], output w [lbf].  ``A`` is stored in compressed-row form
+    (most specimens are sparse: a vessel's 8x8 matrix has 12 nonzeros);
+    ``specimen`` is an object with ``state_space()`` or a state space with
+    ``A, B, C, D``; ``None`` gives no states and ``w = 0``.  When the state
+    space is a bank of base-excited oscillators (:func:`oscillator_bank_of`:
+    a vessel, a rigid mass, a single-DOF article) and ``oscillator_bank`` is
+    true, ``kind`` is ``SPEC_BANK`` and ``osc_k``, ``osc_c`` hold its
+    coefficients; otherwise ``kind`` is ``SPEC_CSR`` (``oscillator_bank=False``
+    forces the general path, for comparisons).
     """
     if specimen is None:
-        return (np.zeros(0), np.zeros(0, np.int64), np.zeros(1, np.int64), np.zeros(0),
-                np.zeros(0), 0.0)
-    A, B, C, D = specimen_state_space(specimen)
+        A, B, C, D = np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
+    else:
+        A, B, C, D = specimen_state_space(specimen)
     rows, cols = np.nonzero(A)
     ptr = np.searchsorted(rows, np.arange(A.shape[0] + 1)).astype(np.int64)
+    bank = oscillator_bank_of(A, B) if oscillator_bank else None
+    kind, osc_k, osc_c = (SPEC_CSR, np.zeros(0), np.zeros(0)) if bank is None else (SPEC_BANK,
+                                                                                  *bank)
     return (np.ascontiguousarray(A[rows, cols]), cols.astype(np.int64), ptr,
-            np.ascontiguousarray(B), np.ascontiguousarray(C), D)
+            np.ascontiguousarray(B), np.ascontiguousarray(C), D, kind, osc_k, osc_c)
+
+
+def oscillator_bank_of(A, B):
+    """``(osc_k, osc_c)`` if ``x' = A x + B z`` is a bank of base-excited oscillators, else None.
+
+    The bank form: states ``[q (n), q' (n)]`` (relative displacements [in],
+    velocities [in/s]) with ``q_i'' = -z + osc_k_i q_i + osc_c_i q_i'``, i.e.
+    ``A = [[0, I], [diag(osc_k), diag(osc_c)]]`` and ``B = [0, -1]``
+    exactly; ``osc_k = -omega^2`` [1/s^2], ``osc_c = -2 zeta omega`` [1/s].
+    No states (a rigid mass) is an empty bank.
+    """
+    m = B.size
+    if m % 2:
+        return None
+    n = m // 2
+    osc_k = np.ascontiguousarray(np.diag(A[n:, :n]))
+    osc_c = np.ascontiguousarray(np.diag(A[n:, n:]))
+    pattern = np.block([[np.zeros((n, n)), np.eye(n)], [np.diag(osc_k), np.diag(osc_c)]])
+    if not (np.array_equal(A, pattern) and np.array_equal(B, np.r_[np.zeros(n), -np.ones(n)])):
+        return None
+    return osc_k, osc_c
 
 
 class VirtualTable:
