@@ -59,8 +59,8 @@ def channel_update(m, s, v, tmp, compensated):
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def controller_step(m_z, m_w, s_z, s_w, tmp, z_vs, w, compensated):
-    """One loop of the MIL controller: return ``u`` [in] and advance the states.
+def controller_step_parts(m_z, m_w, s_z, s_w, tmp, z_vs, w, compensated):
+    """One loop of the MIL controller: return ``(u, u_w)`` [in] and advance the states.
 
     Parameters
     ----------
@@ -79,8 +79,10 @@ def controller_step(m_z, m_w, s_z, s_w, tmp, z_vs, w, compensated):
 
     Returns
     -------
-    float
-        Displacement command ``u`` [in], in the arrays' dtype.
+    tuple of float
+        Displacement command ``u = u_z + u_w`` and its feedback part ``u_w``
+        [in], in the arrays' dtype (the virtual lab records both; computing
+        ``u_w`` here once keeps the record equal to what the command used).
     """
     # Round the inputs to the arrays' dtype through the scratch vector, so that a
     # float64 argument cannot promote float32 arithmetic.
@@ -88,10 +90,17 @@ def controller_step(m_z, m_w, s_z, s_w, tmp, z_vs, w, compensated):
     zv = tmp[0]
     tmp[0] = w
     wv = tmp[0]
-    u = channel_output(m_z, s_z, zv) + channel_output(m_w, s_w, wv)
+    u_w = channel_output(m_w, s_w, wv)
+    u = channel_output(m_z, s_z, zv) + u_w
     channel_update(m_z, s_z, zv, tmp, compensated)
     channel_update(m_w, s_w, wv, tmp, compensated)
-    return u
+    return u, u_w
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def controller_step(m_z, m_w, s_z, s_w, tmp, z_vs, w, compensated):
+    """:func:`controller_step_parts` returning only the command ``u`` [in]."""
+    return controller_step_parts(m_z, m_w, s_z, s_w, tmp, z_vs, w, compensated)[0]
 
 
 @numba.njit(cache=True, nogil=True)

@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import ConfigError
 from ..virtual.kernels import KIND_PYTHON, vs_output_z, vs_step_rk3
 from .discretize import DiscreteController
-from .kernels import controller_run, controller_step
+from .kernels import controller_run, controller_step, controller_step_parts
 
 #: Precisions understood by the runtime and the generators, and their dtypes.
 PRECISIONS = {"single": np.float32, "double": np.float64}
@@ -51,10 +51,13 @@ class MILStep:
         Displacement command to the table [in].
     z_vs : float
         Target basemat acceleration computed by the VS [in/s**2].
+    u_w : float
+        Feedback part of ``u`` (the H_uw channel's output) [in].
     """
 
     u: float
     z_vs: float
+    u_w: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -93,7 +96,8 @@ def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_v
     w : float
         Measured force [lbf].
     out : ndarray
-        Receives ``[u [in], z_vs [in/s**2]]``.
+        Receives ``[u [in], z_vs [in/s**2], u_w [in]]`` (``u_w``, the feedback
+        part of ``u``, for the virtual lab's records).
     """
     tmp[0] = a_g
     ag = tmp[0]
@@ -105,8 +109,10 @@ def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_v
     tmp[0] = z
     z = tmp[0]
     vs_step_rk3(kind_code, params, x_vs, ag, wv, h, work)
-    out[0] = controller_step(m_z, m_w, s_z, s_w, tmp, z, wv, compensated)
+    u, u_w = controller_step_parts(m_z, m_w, s_z, s_w, tmp, z, wv, compensated)
+    out[0] = u
     out[1] = z
+    out[2] = u_w
 
 
 @numba.njit(cache=True, nogil=True)
@@ -169,7 +175,7 @@ class MILRuntime:
                           else np.zeros(0, self.dtype))
         self.x_vs = np.zeros(n_vs, self.dtype)
         self.work = np.zeros(4 * max(n_vs, 1), self.dtype)
-        self._out = np.zeros(2, self.dtype)
+        self._out = np.zeros(3, self.dtype)
         self.reset()
 
     @property
@@ -189,6 +195,12 @@ class MILRuntime:
         return float(controller_step(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp,
                                      float(z_vs), float(w), self.compensated))
 
+    def step_parts(self, z_vs: float, w: float) -> tuple[float, float]:
+        """:meth:`step` returning ``(u, u_w)`` [in]: the command and its feedback part."""
+        u, u_w = controller_step_parts(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp,
+                                       float(z_vs), float(w), self.compensated)
+        return float(u), float(u_w)
+
     def mil_step(self, a_g: float, w: float) -> MILStep:
         """One MIL loop: VS (RK3) then controller, from ``a_g`` [in/s**2] and ``w`` [lbf]."""
         if self.vs is None:
@@ -196,7 +208,7 @@ class MILRuntime:
         mil_step_kernel(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, self.compensated,
                         self.kind_code, self.vs_params, self.x_vs, self.work,
                         self.loop_time_s, float(a_g), float(w), self._out)
-        return MILStep(float(self._out[0]), float(self._out[1]))
+        return MILStep(float(self._out[0]), float(self._out[1]), float(self._out[2]))
 
     def run(self, z_vs, w) -> np.ndarray:
         """Step over records ``z_vs`` [in/s**2] and ``w`` [lbf]; return ``u`` [in] (runtime dtype)."""

@@ -31,7 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..implement.kernels import channel_output, controller_step
+from ..implement.kernels import controller_step_parts
 from ..implement.runtime import mil_step_kernel
 from ..specimens.sensors import force_from_equilibrium, load_cell_force_kernel, measure_kernel
 from ..plant.nonlinear import (IX_P1, IX_P2, IX_S, IX_SD, IX_V, IX_X, N_TABLE_STATES,
@@ -344,7 +344,7 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc
     qi, gain, scale, offset, noise_rms, lsb, v_low, v_high, lc_w, chan_idx, qbuf = sens
     meas = np.zeros(7)
     readings = np.zeros(noise.shape[1])
-    out2 = np.zeros(2, dtype=tmp.dtype)
+    out2 = np.zeros(3, dtype=tmp.dtype)
     x_prev = 0.0
     dp_prev = 0.0
     sat = 0
@@ -369,15 +369,14 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc
             u_w = 0.0
             z_vs = 0.0
         elif mode == MODE_TRACK:
-            u_w = channel_output(m_w, s_w, w_used)
-            u = controller_step(m_z, m_w, s_z, s_w, tmp, a_g[k], w_used, compensated)
+            u, u_w = controller_step_parts(m_z, m_w, s_z, s_w, tmp, a_g[k], w_used, compensated)
             z_vs = a_g[k]
         else:
-            u_w = channel_output(m_w, s_w, w_used)
             mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, vs_params, x_vs,
                             vs_work, dt, a_g[k], w_used, out2)
             u = out2[0]
             z_vs = out2[1]
+            u_w = out2[2]
         uv = valve_command(pa, u, x_prev, dp_prev)
         x_prev = meas[M_X]
         dp_prev = meas[M_DP]

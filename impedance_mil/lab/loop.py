@@ -192,12 +192,11 @@ def simulate_interface(plant: PlantInterface, *, command=None, a_g=None, runtime
         if mode == MODE_OPEN:
             u = cmd[k]
         else:
-            u_w = _channel_w_output(runtime, w_used)
             if mode == MODE_TRACK:
-                u, z_vs = runtime.step(ag[k], w_used), ag[k]
+                (u, u_w), z_vs = runtime.step_parts(ag[k], w_used), ag[k]
             else:
                 out = runtime.mil_step(ag[k], w_used)
-                u, z_vs = out.u, out.z_vs
+                u, z_vs, u_w = out.u, out.z_vs, out.u_w
         plant.write_command(u)
         truth = plant.truth() if hasattr(plant, "truth") else {}
         row = dict.fromkeys(CHANNELS, np.nan)
@@ -212,13 +211,6 @@ def simulate_interface(plant: PlantInterface, *, command=None, a_g=None, runtime
         vs_states=np.array(vs_rows, dtype=float).reshape(len(rows), -1),
         vs_state_names=_vs_names(runtime), mode=_MODES[mode], loop_time=plant.loop_time,
         trip=trip, config={"plant": type(plant).__name__, "feedback": feedback})
-
-
-def _channel_w_output(runtime, w: float) -> float:
-    """Present output of the H_uw channel (``u_w``) before the controller steps."""
-    m_w, s_w = runtime.m_w, runtime.s_w
-    n = s_w.shape[1]
-    return float(m_w[n, n] * w + np.dot(m_w[n, :n], s_w[0]))
 
 
 __all__ = ["simulate", "simulate_interface", "VirtualTable"]

@@ -387,7 +387,7 @@ class NonlinearTable:
         v0 = p.piston_area * p.mid_stroke + dead_volume
         kappa = omega ** 2 * p.mass * v0 / (2.0 * p.piston_area ** 2)
         half_drop = 0.5 * (p.supply_pressure - p.return_pressure)
-        f_eq = half_drop / (half_drop ** 2 + laminar_pressure ** 2) ** 0.25
+        f_eq = orifice(half_drop, laminar_pressure)
         return cls(
             piston_area=p.piston_area, mid_stroke=p.mid_stroke, mass=p.mass,
             bulk_modulus=kappa, leakage=p.zeta_oil * omega * v0 / kappa,
@@ -421,7 +421,7 @@ class NonlinearTable:
         report Section 4.3.2): a consistency check of the model constant d.
         """
         half = 500.0
-        return self.flow_gain * self.spool_limit * half / (half ** 2 + self.laminar_pressure ** 2) ** 0.25
+        return self.flow_gain * self.spool_limit * orifice(half, self.laminar_pressure)
 
     def parameter_array(self) -> np.ndarray:
         """The parameter array read by the numba kernels (layout ``PA_*``)."""

@@ -49,6 +49,28 @@ def test_interface_path_equals_compiled_path(table, specimen):
         assert np.max(np.abs(a - b)) <= 1e-12 * max(1.0, np.max(np.abs(a))), name
 
 
+@pytest.mark.parametrize("precision", ["single", "double"])
+def test_interface_path_equals_compiled_path_under_control(table, precision):
+    # Invariant: with the tracking controller in the loop the two paths also agree, and
+    # the recorded u_w is the controller's own H_uw output in its arithmetic, so that
+    # u_z + u_w = u holds exactly (the record once recomputed u_w in float64 beside a
+    # float32 controller).
+    p = report_parameters()
+    design = design_controller(table_model(p), form="tracking", fc_hz=80.0, emit_warnings=False)
+    controller = discretize(design.H_uz, design.H_uw, p.loop_time, fc_hz=80.0)
+    a_g = 40.0 * np.sin(2 * np.pi * 3.0 * np.arange(2000) * p.loop_time)
+    vessel = FluidVessel.report_default()
+    fast = simulate(table, a_g=a_g, runtime=MILRuntime(controller, precision=precision),
+                    specimen=vessel, seed=3)
+    slow = simulate_interface(VirtualTable(table, specimen=vessel, seed=3), a_g=a_g,
+                              runtime=MILRuntime(controller, precision=precision))
+    for name in ("u", "u_w", "u_z", "x", "z", "w_lc"):
+        a, b = fast.channels[name], slow.channels[name]
+        assert np.max(np.abs(a - b)) <= 1e-12 * max(1.0, np.max(np.abs(a))), name
+    assert np.max(np.abs(fast.u_w)) > 0                     # the feedback path is active
+    np.testing.assert_array_equal(fast.channels["u_z"] + fast.channels["u_w"], fast.channels["u"])
+
+
 def test_rest_stays_at_rest(table):
     # Equilibrium P1 = P2 = Ps/2 with zero command: the table only settles onto the
     # string potentiometer's quantization of x = 0 (Table 7.1: 1.25 in/V, 16 bits
