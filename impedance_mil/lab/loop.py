@@ -149,9 +149,12 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     rec = np.empty((len(CHANNELS), n))
     vs_rec = np.zeros((n, ctrl[8].size))
     status = np.zeros(3)
+    # The compiled loop allocates nothing (it runs without reference counting): every
+    # scratch array is made here and outlives the call.
     run_loop(mode, _FEEDBACK[feedback], table.parameter_array(), nsub, y, *spec,
              sens, noise, limits.array(table), ag, cmd, *ctrl, rec, vs_rec,
-             np.zeros((5, n_y)), status)
+             np.zeros((5, n_y)), np.zeros(7 + noise.shape[1]), np.zeros(3, dtype=ctrl[4].dtype),
+             status)
     done = int(status[0])
     trip = None
     if status[1]:
