@@ -34,7 +34,9 @@ _MODES = {MODE_OPEN: "open", MODE_TRACK: "track", MODE_MIL: "mil"}
 
 
 def _history(key: str, values, unit: str) -> np.ndarray:
-    arr = np.ascontiguousarray(values, dtype=float).ravel()
+    # A writable copy: numba compiles the loop once per argument type, and a
+    # read-only array (a GroundMotion's samples) is another type.
+    arr = np.array(values, dtype=float).ravel()
     if not np.all(np.isfinite(arr)):
         raise ConfigError(key, f"finite samples [{unit}], one per loop", "NaN or inf")
     return arr
@@ -139,7 +141,9 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     sens = sensor_arrays(sensors, feedback, quantize)
     limits = limits or SafetyLimits()
     mode, ag, cmd = _mode_and_inputs(command, a_g, runtime, table.loop_time)
-    spec = specimen_arrays(specimen)
+    # Writable copies (see _history): one compiled loop per controller precision.
+    spec = tuple(np.array(a) if isinstance(a, np.ndarray) else a
+                 for a in specimen_arrays(specimen))
     n_y = N_TABLE_STATES + spec[3].size
     y = np.zeros(n_y)
     y[:N_TABLE_STATES] = table.equilibrium_state()
