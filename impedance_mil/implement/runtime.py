@@ -134,7 +134,10 @@ class MILRuntime:
     controller : DiscreteController
         From :func:`~impedance_mil.implement.discretize`.
     vs : VirtualSystem, optional
-        A built-in virtual system (``kind_code >= 1``); needed by :meth:`mil_step`.
+        The virtual system; needed by :meth:`mil_step`.  A built-in kind
+        (``kind_code >= 1``) is stepped by the compiled kernel; a user-defined
+        one (``KIND_PYTHON``) through its own Python methods (same sequence,
+        ~100x slower, and not renderable by the code generators).
     precision : {"single", "double"}
         Arithmetic of the controller (float32 as on the RMC75E, or float64).
     compensated : bool
@@ -166,14 +169,14 @@ class MILRuntime:
         self.s_w = np.zeros((2, controller.w.n_states), self.dtype)
         self.tmp = np.zeros(max(controller.z.n_states, controller.w.n_states, 1), self.dtype)
         self.vs = vs
-        if vs is not None and vs.kind_code == KIND_PYTHON:
-            raise ConfigError("vs", "a built-in virtual system with a compiled kernel (SD, LR, FP)",
-                              type(vs).__name__)
         n_vs = vs.n_states if vs is not None else 0
         self.kind_code = int(vs.kind_code) if vs is not None else 0
-        self.vs_params = (vs.parameter_array().astype(self.dtype) if vs is not None
-                          else np.zeros(0, self.dtype))
-        self.x_vs = np.zeros(n_vs, self.dtype)
+        # A user-defined VS (KIND_PYTHON) has no kernel: mil_step calls the object
+        # (float64 state, the VS's own Python arithmetic); the controller is the same.
+        self.python_vs = self.kind_code == KIND_PYTHON
+        self.vs_params = (vs.parameter_array().astype(self.dtype)
+                          if vs is not None and not self.python_vs else np.zeros(0, self.dtype))
+        self.x_vs = np.zeros(n_vs, float if self.python_vs else self.dtype)
         self.work = np.zeros(4 * max(n_vs, 1), self.dtype)
         self._out = np.zeros(3, self.dtype)
         self.reset()
@@ -205,10 +208,19 @@ class MILRuntime:
         """One MIL loop: VS (RK3) then controller, from ``a_g`` [in/s**2] and ``w`` [lbf]."""
         if self.vs is None:
             raise ConfigError("vs", "a virtual system for mil_step (MILRuntime(controller, vs=...))")
+        if self.python_vs:
+            return self._python_mil_step(float(a_g), float(w))
         mil_step_kernel(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, self.compensated,
                         self.kind_code, self.vs_params, self.x_vs, self.work,
                         self.loop_time_s, float(a_g), float(w), self._out)
         return MILStep(float(self._out[0]), float(self._out[1]), float(self._out[2]))
+
+    def _python_mil_step(self, a_g: float, w: float) -> MILStep:
+        """:meth:`mil_step` for a user-defined VS: the same sequence as the kernel, in Python."""
+        z_vs = self.vs.outputs(self.x_vs, a_g, w).z_vs
+        self.x_vs[:] = self.vs.step_rk3(self.x_vs, a_g, w, self.loop_time_s)
+        u, u_w = self.step_parts(z_vs, w)
+        return MILStep(u, float(z_vs), u_w)
 
     def run(self, z_vs, w) -> np.ndarray:
         """Step over records ``z_vs`` [in/s**2] and ``w`` [lbf]; return ``u`` [in] (runtime dtype)."""
@@ -225,6 +237,11 @@ class MILRuntime:
         aa, ww = self._records(a_g, w)
         u = np.empty(aa.size, self.dtype)
         z = np.empty(aa.size, self.dtype)
+        if self.python_vs:
+            for k in range(aa.size):
+                step = self._python_mil_step(float(aa[k]), float(ww[k]))
+                u[k], z[k] = step.u, step.z_vs
+            return MILTrace(u, z)
         mil_run_kernel(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, self.compensated,
                        self.kind_code, self.vs_params, self.x_vs, self.work,
                        self.loop_time_s, aa, ww, u, z, self._out)

@@ -16,7 +16,7 @@ tracks ``a_g`` (Section 8, ``z_vs = a_g``), a runtime with a VS is a MIL run
 
 from __future__ import annotations
 
-from dataclasses import asdict
+from dataclasses import asdict, replace
 
 import numpy as np
 
@@ -141,6 +141,15 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     sens = sensor_arrays(sensors, feedback, quantize)
     limits = limits or SafetyLimits()
     mode, ag, cmd = _mode_and_inputs(command, a_g, runtime, table.loop_time)
+    if mode == MODE_MIL and getattr(runtime, "python_vs", False):
+        # A user-defined VS has no kernel: the same ticks through the plant interface
+        # (VirtualTable calls the compiled plant kernels; trajectories are the same).
+        plant = VirtualTable(table, specimen=specimen, sensors=sensors, limits=limits,
+                             substeps=nsub, seed=seed, feedback=feedback, quantize=quantize)
+        result = simulate_interface(plant, a_g=ag, runtime=runtime, feedback=feedback)
+        cfg = _config(table, specimen, runtime, sensors, limits, sub_cfg, seed, feedback,
+                      quantize, {**(config or {}), "path": "python-vs"})
+        return replace(result, config=cfg)
     # Writable copies (see _history): one compiled loop per controller precision.
     spec = tuple(np.array(a) if isinstance(a, np.ndarray) else a
                  for a in specimen_arrays(specimen))
