@@ -85,6 +85,19 @@ def test_generated_st_parses_with_blark(small):
     assert names == ["imil_sign", "imil_custom_feedback", "imil_controller", "imil_mil"]
 
 
+@pytest.mark.parametrize("preset", ["SD2", "LR2", "FP2"])
+def test_mil_block_declares_each_variable_once(small, preset):
+    # IEC 61131-3 forbids a name declared twice in one POU, and VAR CONSTANT entries
+    # need an initial value (blark parses both, so it is checked here).
+    text = render_st(small, "single", "imil", vs=presets.get(preset))["imil.st"]
+    src = re.search(r"FUNCTION_BLOCK imil_mil\n(.*?)END_FUNCTION_BLOCK", text, re.S).group(1)
+    names = re.findall(r"^    (\w+) :", src, re.M)
+    assert len(names) == len(set(names)), sorted(n for n in set(names) if names.count(n) > 1)
+    constants = re.search(r"VAR CONSTANT\n(.*?)END_VAR", src, re.S).group(1)
+    assert all(":=" in line for line in re.findall(r"^    \w+ :.*$", constants, re.M))
+    assert {"x_vs", "k1", "u_z", "dt", "p_m_vs", "rk_b3"} <= set(names)
+
+
 def test_parser_rejects_broken_st(small):
     # The parse test can fail: a missing semicolon is reported by blark.
     text = render_st(small, "single", "imil")["imil.st"].replace("u := u_z + u_w;", "u := u_z + u_w")

@@ -56,13 +56,18 @@ def _channel(tag: str, state: str, inp: str, m: np.ndarray, precision: str, real
     return decls, arrays, out, upd
 
 
-def _controller(controller: DiscreteController, precision: str, real: str, indent=""):
+def _controller(controller: DiscreteController, precision: str, real: str, indent="",
+                constants=(), variables=()):
+    """Declarations and body of the controller; ``constants`` and ``variables`` are extra
+    declaration lines for its VAR CONSTANT and VAR sections (the MIL block's VS)."""
     dz, az, oz, uz = _channel("Az", "X", "z_vs", controller.z.system_matrix(), precision, real)
     dw, aw, ow, uw = _channel("Aw", "Y", "w", controller.w.system_matrix(), precision, real)
     nmax = max(controller.z.n_states, controller.w.n_states, 1)
-    decls = ("VAR CONSTANT\n    (* [[A - I, B], [C, D]] of H_uz (Az) and H_uw (Aw) *)\n"
+    decls = ("VAR CONSTANT\n" + "".join(line + "\n" for line in constants)
+             + "    (* [[A - I, B], [C, D]] of H_uz (Az) and H_uw (Aw) *)\n"
              + "\n".join(dz + dw) + "\nEND_VAR\nVAR\n" + "\n".join(az + aw)
-             + f"\n    t : ARRAY[0..{nmax - 1}] OF {real};\n    r : {real};\n    s : {real};\nEND_VAR")
+             + f"\n    t : ARRAY[0..{nmax - 1}] OF {real};\n    r : {real};\n    s : {real};"
+             + "".join("\n" + line for line in variables) + "\nEND_VAR")
     body = ["(* control input (position command) *)",
             f"u_z := {oz};", f"u_w := {ow};", "u := u_z + u_w;",
             "(* update of the controller states: H_uz with z_vs, H_uw with w *)", *uz, *uw]
@@ -107,14 +112,13 @@ def _mil_block(controller, vs, prefix, precision, real) -> str:
     body += stage("xs", "k3")
     body += [f"x_vs[{i}] := x_vs[{i}] + dt * (rk_b1 * k1[{i}] + rk_b2 * k2[{i}] + rk_b3 * k3[{i}]);"
              for i in range(n)]
-    cdecls, cbody = _controller(controller, precision, real)
-    cdecls = cdecls.replace("VAR CONSTANT\n", "VAR CONSTANT\n" + "\n".join(
-        [f"    dt : {real} := {lit(controller.loop_time_s)};", *params, *rk]) + "\n", 1)
-    local = [f"    x_vs : ARRAY[0..{n - 1}] OF {real};", f"    xs : ARRAY[0..{n - 1}] OF {real};",
-             *[f"    {k} : ARRAY[0..{n - 1}] OF {real};" for k in ("k1", "k2", "k3")],
+    local = [*[f"    {k} : ARRAY[0..{n - 1}] OF {real};" for k in ("x_vs", "xs", "k1", "k2", "k3")],
              *[f"    s_{s} : {real};" for s in eq.states], *[f"    t_{t} : {real};" for t in tnames],
-             "    u_z : REAL;".replace("REAL", real), "    u_w : REAL;".replace("REAL", real)]
-    cdecls = cdecls.replace("\nEND_VAR", "\n" + "\n".join(local) + "\nEND_VAR", 2)
+             f"    u_z : {real};", f"    u_w : {real};"]
+    cdecls, cbody = _controller(
+        controller, precision, real,
+        constants=[f"    dt : {real} := {lit(controller.loop_time_s)};", *params, *rk],
+        variables=local)
     return (f"\n(* Figures 7.9-7.11 (corrected): {eq.kind} virtual system "
             f"{getattr(vs, 'name', '') or ''} and the controller in one loop. *)\n"
             f"FUNCTION_BLOCK {prefix}_mil\nVAR_INPUT\n    a_g : {real};\n    w : {real};\nEND_VAR\n"
