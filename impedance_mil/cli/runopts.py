@@ -27,13 +27,13 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
 from ..campaign.motions import REPORT_MOTIONS, TIME_SCALE
-from ..config import parse_overrides, quantity, read_toml
+from ..config import quantity, read_toml
 from ..design.constraints import DesignCriteria
 from ..errors import ConfigError, DataFileError, ImilError
 from ..fileio import json_safe
 from ..lab.results import RunResult, save_run
 from ..lab.setup import SafetyLimits
-from ..plant import TableParameters, default_table_path
+from ..plant import TableParameters
 from ..signals import GroundMotion, MotionCheck, TableLimits, check_motion
 from ..specimens import FluidVessel, RigidMass, specimen_from_config
 from ..units import G0, in_s2_to_g, weight_to_mass
@@ -162,11 +162,6 @@ class Written:
 
 
 # ------------------------------------------------------------------ parsing
-def table_parameters(table: Optional[Path], sets: Optional[List[str]]) -> TableParameters:
-    """``--table`` (default report Table 4.1) with ``--set`` overrides."""
-    return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
-
-
 def specimen_choice(text: str, water_depth: Optional[str], weight: Optional[str]) -> SpecimenChoice:
     """Resolve ``--specimen`` with ``--water-depth`` [in] or ``--specimen-weight`` [lbf]."""
     key = text.strip().lower()

@@ -38,14 +38,14 @@ from ..plant import TableParameters
 from ..signals.multisine import design_multisine
 from ..virtual import presets
 from ..virtual.files import VSSpec, resolve
-from .common import console, print_json
+from .common import console, print_json, table_parameters
 from .motion import SOURCE_HELP, UNITS_HELP
 from .report_cmd import MODEL_LOOP, model_loop, write_report
 from .runopts import (DEFAULT_FC_HZ, DEFAULT_MOTION, DEFAULT_TIME_SCALE, EXIT_ABORTED,
                       EXIT_INTERRUPTED, SPECIMEN_HELP, MotionChoice, Pretest, SpecimenChoice, Written,
                       activity, check_choice, design_lines, enforce_pretest, err_console,
                       feedback_choice, motion_choice, output_path, percent, pretest, run_summary,
-                      specimen_choice, table_parameters, trip_text, write_run_file)
+                      specimen_choice, trip_text, write_run_file)
 
 TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default report Table 4.1.")
 SetOpt = typer.Option(None, "--set", help="Table value KEY=VALUE (repeatable), e.g. Kp=0.0006.")

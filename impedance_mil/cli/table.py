@@ -12,13 +12,12 @@ from typing import List, Optional
 
 import typer
 
-from ..config import parse_overrides
-from ..plant import LinearTable, TableParameters, default_table_path
+from ..plant import LinearTable, TableParameters
 from ..plant.tuning import (breakaway, first_order_validity_limit, labelled_poles, recommend_kp,
                             stability_limit)
 from ..report import table_plots
 from ..systems import pole_table
-from .common import console, print_json
+from .common import console, print_json, table_parameters
 
 app = typer.Typer(help="Shake-table model: parameters, poles, transfer functions, tuning.",
                   no_args_is_help=True)
@@ -43,16 +42,11 @@ def _wrote(path: Path, as_json: bool) -> None:
         _say(f"wrote {path}")
 
 
-def load_params(table: Optional[Path], sets: Optional[List[str]]) -> TableParameters:
-    """Parameters from ``--table`` and ``--set`` (errors name the key or file)."""
-    return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
-
-
 @app.command()
 def info(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
          json: bool = JsonOpt) -> None:
     """Parameters (internal units) and derived quantities."""
-    p = load_params(table, set)
+    p = table_parameters(table, set)
     data = {"parameters": p.to_dict(), "derived": {
         "omega_oil_rad_s": p.omega_oil, "bulk_modulus_psi": p.bulk_modulus,
         "leakage_coefficient_in3_s_psi": p.leakage_coefficient,
@@ -79,7 +73,7 @@ def _poles_rows(p: TableParameters, delay: str, pade_order: int) -> list[dict]:
 def poles(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
           json: bool = JsonOpt, delay: str = DelayOpt, pade_order: int = PadeOpt) -> None:
     """Closed-loop poles: frequency [Hz], damping [-], real/imag [rad/s]; reports instability."""
-    p = load_params(table, set)
+    p = table_parameters(table, set)
     rows = _poles_rows(p, delay, pade_order)
     stable = LinearTable(p, delay=delay, pade_order=pade_order).is_stable()
     if json:
@@ -102,7 +96,7 @@ def tf(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
 
     With ``--delay sampled`` the discrete function in z is printed (with ``dt``).
     """
-    p = load_params(table, set)
+    p = table_parameters(table, set)
     tbl = LinearTable(p, delay=delay, pade_order=pade_order)
     H = tbl.sampled().tf(output, input) if delay == "sampled" else tbl.tf(output, input)
     data = H.to_dict()
@@ -122,7 +116,7 @@ def bode(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
          fmin: float = typer.Option(0.1, "--fmin", help="Lowest frequency [Hz]."),
          fmax: float = typer.Option(200.0, "--fmax", help="Highest frequency [Hz].")) -> None:
     """Bode plots of the six transfer functions (PNG)."""
-    p = load_params(table, set)
+    p = table_parameters(table, set)
     _wrote(table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax), json)
 
 
@@ -133,7 +127,7 @@ def rlocus(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
            upper: Optional[float] = typer.Option(None, "--max", help="Largest value (internal units)."),
            out: Path = typer.Option(Path("table-rlocus.png"), "-o", "--out", help="PNG file.")) -> None:
     """Root locus of the five poles for a K_e, K_p or loop-time sweep (PNG)."""
-    p = load_params(table, set)
+    p = table_parameters(table, set)
     _wrote(table_plots.save_root_locus(p, param, out, upper=upper), json)
 
 
@@ -141,7 +135,7 @@ def rlocus(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
 def tune(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
          json: bool = JsonOpt) -> None:
     """Stability limits, break-away points and the K_p maximizing oil-column damping."""
-    p = load_params(table, set)
+    p = table_parameters(table, set)
     analog = p.replace(loop_time=0.0)
     rec = recommend_kp(p)
     limit = first_order_validity_limit(p)
