@@ -56,7 +56,7 @@ def _channel(tag: str, state: str, inp: str, m: np.ndarray, precision: str, real
     return decls, arrays, out, upd
 
 
-def _controller(controller: DiscreteController, precision: str, real: str, indent="",
+def _controller(controller: DiscreteController, precision: str, real: str,
                 constants=(), variables=()):
     """Declarations and body of the controller; ``constants`` and ``variables`` are extra
     declaration lines for its VAR CONSTANT and VAR sections (the MIL block's VS)."""
@@ -71,7 +71,7 @@ def _controller(controller: DiscreteController, precision: str, real: str, inden
     body = ["(* control input (position command) *)",
             f"u_z := {oz};", f"u_w := {ow};", "u := u_z + u_w;",
             "(* update of the controller states: H_uz with z_vs, H_uw with w *)", *uz, *uw]
-    return decls, "\n".join(indent + line for line in body)
+    return decls, "\n".join(body)
 
 
 def _mil_block(controller, vs, prefix, precision, real) -> str:
@@ -94,18 +94,21 @@ def _mil_block(controller, vs, prefix, precision, real) -> str:
     params = [f"    p_{p} : {real} := {lit(v)};" for p, v in zip(eq.params, vs.parameter_array())]
     rk = [f"    rk_{k} : {real} := {lit(v)};" for k, v in RK3.items()]
 
-    def stage(src, dst):
-        lines = [f"s_{s} := {src}[{i}];" for i, s in enumerate(eq.states)]
-        lines += [f"t_{t} := {ex(e)};" for t, e in eq.temps]
-        lines += [f"{dst}[{i}] := {ex(e)};" for i, e in enumerate(eq.derivatives)]
-        return lines
+    def load(src):
+        """State and intermediate values at the state ``src``."""
+        return ([f"s_{s} := {src}[{i}];" for i, s in enumerate(eq.states)]
+                + [f"t_{t} := {ex(e)};" for t, e in eq.temps])
 
-    body = ["(* target acceleration from the VS state at the start of the loop *)"]
-    body += [f"s_{s} := x_vs[{i}];" for i, s in enumerate(eq.states)]
-    body += [f"t_{t} := {ex(e)};" for t, e in eq.temps]
-    body += [f"z_vs := (w - ({ex(eq.force)})) / p_m_vs;",
-             "(* third-order Runge-Kutta step of the VS (Figure 7.9) *)"]
-    body += stage("x_vs", "k1")
+    def derivatives(dst):
+        return [f"{dst}[{i}] := {ex(e)};" for i, e in enumerate(eq.derivatives)]
+
+    def stage(src, dst):
+        return load(src) + derivatives(dst)
+
+    body = ["(* target acceleration from the VS state at the start of the loop *)", *load("x_vs"),
+            f"z_vs := (w - ({ex(eq.force)})) / p_m_vs;",
+            "(* third-order Runge-Kutta step of the VS (Figure 7.9); first stage at x_vs *)",
+            *derivatives("k1")]
     body += [f"xs[{i}] := x_vs[{i}] + rk_a21 * dt * k1[{i}];" for i in range(n)]
     body += stage("xs", "k2")
     body += [f"xs[{i}] := x_vs[{i}] + rk_a32 * dt * k2[{i}];" for i in range(n)]
