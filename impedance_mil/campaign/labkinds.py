@@ -20,7 +20,7 @@ import numpy as np
 
 from ..lab.experiments import ControlledRun, run_frf, run_mil, run_tracking
 from ..lab.results import save_run
-from ..signals.multisine import design_multisine
+from ..signals.multisine import report_multisine
 from ..specimens.vessel import FluidVessel
 from .modelkinds import CONTROLLER_PARAMS, TABLE_PARAMS, VS_PARAMS, table_parameters, virtual_system
 from .motions import REPORT_MOTIONS, motion_source, report_motion
@@ -77,9 +77,6 @@ MIL_DEFAULTS: dict[str, Any] = {
     **TRACKING_DEFAULTS, "specimen": {"kind": "vessel", "water_depth": 36.0},
     "vs": {"preset": "SD2", "m_vs_ratio": None, "m_vs": None}}
 
-#: Period of the multisine [s]: 8192 points at 2000 Hz (report Section 4.5.2), kept at any loop time.
-MULTISINE_PERIOD_S = 4.096
-
 #: Bands of the FRF model error [Hz]: the whole multisine band, and the oil-column band of Figure 4.16.
 FRF_BANDS_HZ = {"model_error": (0.25, 100.0), "model_error_10_50hz": (10.0, 50.0)}
 
@@ -105,8 +102,7 @@ def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """
     params = table_parameters(config)
     specimen = _specimen(config)
-    multisine = design_multisine(peak=0.1, sample_rate_hz=1.0 / params.loop_time,
-                                 n_points=int(round(MULTISINE_PERIOD_S / params.loop_time)))
+    multisine = report_multisine(params.loop_time)
     exp = run_frf(params, multisine=multisine, specimen=specimen, identify=specimen is None,
                   seed=int(config["seed"]))
     if not exp.completed:

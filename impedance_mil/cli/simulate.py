@@ -35,7 +35,7 @@ from ..config import parse_overrides, quantity
 from ..errors import ConfigError
 from ..lab import ControlledRun, FrfExperiment, kp_study, run_frf, run_mil, run_tracking
 from ..plant import TableParameters
-from ..signals.multisine import design_multisine
+from ..signals.multisine import report_multisine
 from ..virtual import presets
 from ..virtual.files import VSSpec, resolve
 from .common import console, print_json, table_parameters
@@ -68,8 +68,6 @@ ForceOpt = typer.Option(False, "--force", help="Run a motion that exceeds the ta
                         "interlocks will stop it).")
 OverwriteOpt = typer.Option(False, "--overwrite", help="Replace existing output files.")
 
-#: Period of the multisine [s]: 8192 points at 2000 Hz (Section 4.5.2), kept at any loop time.
-MULTISINE_PERIOD_S = 8192 / 2000.0
 #: Bands of the FRF model error [Hz]: the identification band, and the oil-column band (Figure 4.16).
 FRF_BANDS_HZ = {"model_error_0p25_100hz": (0.25, 100.0), "model_error_10_50hz": (10.0, 50.0)}
 #: K_p values of Sections 4.5.3.1 and 8.3.3 [V/psi].
@@ -454,8 +452,7 @@ def frf(
         raise ConfigError("--kp-study", "--specimen none (the identification is of the bare table, "
                           "Section 4.5.3)", specimen)
     out = output_path("-o", output, overwrite)
-    multisine = design_multisine(peak=amplitude, sample_rate_hz=1.0 / params.loop_time,
-                                 n_points=int(round(MULTISINE_PERIOD_S / params.loop_time)))
+    multisine = report_multisine(params.loop_time, peak=amplitude)
     try:
         with activity(not as_json, "frf: multisine test and identification", total=1 + len(kps)) as step:
             exp = run_frf(params, multisine=multisine, specimen=spec.specimen, delay=delay,

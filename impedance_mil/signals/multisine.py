@@ -24,6 +24,9 @@ from ..errors import ConfigError
 
 _PHASE_METHODS = ("schroeder", "min-crest", "random")
 
+#: Period of the report's multisine [s]: 8192 points at 2000 Hz (Section 4.5.2).
+REPORT_PERIOD_S = 8192 / 2000.0
+
 
 def crest_factor(x) -> float:
     """Crest factor ``max|x| / rms(x)`` (dimensionless) of a signal."""
@@ -187,3 +190,28 @@ def design_multisine(*, peak: float = 0.1, f_min_hz: float = 0.25, f_max_hz: flo
     x *= peak / np.max(np.abs(x))
     return Multisine(period=x, sample_rate_hz=float(sample_rate_hz), lines=lines, phases=phi,
                      crest_factor=crest_factor(x), n_periods=int(n_periods))
+
+
+def report_multisine(loop_time: float, peak: float = 0.1) -> Multisine:
+    """The report's multisine (Section 4.5.2) at the loop rate, its 4.096 s period kept.
+
+    :func:`design_multisine` with ``sample_rate_hz = 1 / loop_time`` and as
+    many points per period as make :data:`REPORT_PERIOD_S` (8192 at the
+    report's 0.0005 s loop time), so the line spacing stays 0.244 Hz at any
+    loop time.
+
+    Parameters
+    ----------
+    loop_time : float
+        Controller loop time [s].
+    peak : float
+        Peak of the position command [in] (report: 0.1).
+
+    Examples
+    --------
+    >>> ms = report_multisine(0.001)
+    >>> ms.n_points, ms.sample_rate_hz, ms.n_points / ms.sample_rate_hz
+    (4096, 1000.0, 4.096)
+    """
+    return design_multisine(peak=peak, sample_rate_hz=1.0 / loop_time,
+                            n_points=int(round(REPORT_PERIOD_S / loop_time)))
