@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from ..errors import LimitTripped
+from ..fileio import atomic_path
 from .executors import RunExecutor, make_executor
 from .kinds import get_kind
 from .spec import CampaignSpec, RunSpec
@@ -98,7 +99,8 @@ def execute_run(kind_name: str, config: dict[str, Any], root: str, run_id: str) 
     """Execute one run in a worker and report its outcome (never raises for a run's own error).
 
     The run function writes to a temporary name that is renamed to
-    ``runs/<run_id>/<kind.output>`` only when it returns.
+    ``runs/<run_id>/<kind.output>`` only when it returns
+    (:func:`impedance_mil.fileio.atomic_path`).
 
     Parameters
     ----------
@@ -120,16 +122,13 @@ def execute_run(kind_name: str, config: dict[str, Any], root: str, run_id: str) 
     start = time.perf_counter()
     store = CampaignStore(root)
     outcome: dict[str, Any] = {"status": "ok", "metrics": {}, "error": "", "hdf5": ""}
-    partial = None
     try:
         kind = get_kind(kind_name)
         final = store.output_path(run_id, kind.output)
-        partial = final.with_name(f".{final.name}.partial-{os.getpid()}")
         final.parent.mkdir(parents=True, exist_ok=True)
-        metrics = _scalar_metrics(kind.run(config, partial))
-        if partial.exists():
-            os.replace(partial, final)
-            outcome["hdf5"] = final.relative_to(store.root).as_posix()
+        with atomic_path(final) as partial:
+            metrics = _scalar_metrics(kind.run(config, partial))
+        outcome["hdf5"] = final.relative_to(store.root).as_posix()
         if metrics.get("aborted"):
             outcome["status"] = "aborted"
             outcome["error"] = str(metrics.get("abort_reason", "a safety limit tripped"))
@@ -139,9 +138,6 @@ def execute_run(kind_name: str, config: dict[str, Any], root: str, run_id: str) 
                        metrics={"aborted": True, "abort_time_s": exc.time_s})
     except Exception as exc:  # any error of a run is recorded, the campaign goes on
         outcome.update(status="failed", error=_one_line(exc))
-    finally:
-        if partial is not None and partial.exists():
-            partial.unlink()
     outcome["elapsed_s"] = time.perf_counter() - start
     outcome["worker"] = f"{socket.gethostname()}:{os.getpid()}"
     return outcome

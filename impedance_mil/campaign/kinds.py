@@ -2,8 +2,9 @@
 
 A run function has the signature ``run(config: dict, out_path: Path) -> dict``:
 it receives the full run configuration (internal units), writes its data to
-``out_path`` (the file its kind names in ``output``, or nothing), and returns
-a flat mapping of metric names to numbers.  Raising :class:`~impedance_mil.errors.LimitTripped`
+``out_path`` (an empty temporary file that becomes the file its kind names in
+``output`` when the function returns), and returns a flat mapping of metric
+names to numbers.  Raising :class:`~impedance_mil.errors.LimitTripped`
 records the run as *aborted* (a legitimate outcome of a test); any other
 exception records it as *failed* with its reason.
 """
