@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import ConfigError
 from ..systems import TransferFunction
 from .forms import TableModel, VirtualModel
-from .passivity import PassivityResult, passivity
+from .passivity import PassivityResult, log_grid_hz, passivity
 from ..units import TWO_PI
 
 #: Half-power complex relative error, 1 - 10**(-3/20).
@@ -280,8 +280,7 @@ def evaluate_constraints(table: TableModel, vs: VirtualModel, ct: ControlledTabl
         Thresholds; the defaults when omitted.
     """
     c = criteria or DesignCriteria()
-    lo, hi = c.band_hz
-    f = np.logspace(np.log10(lo), np.log10(hi), max(int(GRID_PER_DECADE * np.log10(hi / lo)), 50))
+    f = log_grid_hz(c.band_hz, GRID_PER_DECADE)
     Hc = ct.impedance(f)
     tracking = vs.H_zw.is_zero
     # The target is the VS impedance that closes w -> z_vs (the equivalent linearization, when used).
@@ -299,8 +298,7 @@ def evaluate_constraints(table: TableModel, vs: VirtualModel, ct: ControlledTabl
         ph_deg = float(phs[np.argmax(np.abs(phs))])
 
     in_band = np.max(np.abs(ct.wu_response(f)))
-    hlo, hhi = c.effort_band_hz(table.loop_time_s)
-    fh = np.logspace(np.log10(hlo), np.log10(hhi), max(int(GRID_PER_DECADE * np.log10(hhi / hlo)), 50))
+    fh = log_grid_hz(c.effort_band_hz(table.loop_time_s), GRID_PER_DECADE)
     high = np.abs(ct.wu_response(fh))
     j = int(np.argmax(high))
     effort = float(high[j] / in_band) if in_band > 0 else float("inf")

@@ -78,9 +78,13 @@ def delay_model_tolerance_deg(f_hz, loop_time_s: float) -> np.ndarray:
     return np.degrees(x - np.arctan(x))
 
 
-def margin_deg(H_vw: TransferFunction, f_hz) -> np.ndarray:
-    """``90 - |phase|`` of ``H_vw`` at ``f_hz`` [Hz], in degrees."""
-    return 90.0 - np.abs(np.degrees(np.angle(H_vw.frequency_response(f_hz))))
+def log_grid_hz(band_hz: tuple[float, float], points_per_decade: int) -> np.ndarray:
+    """Log-spaced frequencies [Hz] spanning ``band_hz`` [Hz], at least 50 points.
+
+    The one frequency grid of the constraints (I, II) and of the passivity search.
+    """
+    lo, hi = float(band_hz[0]), float(band_hz[1])
+    return np.logspace(np.log10(lo), np.log10(hi), max(int(points_per_decade * np.log10(hi / lo)), 50))
 
 
 def is_passive_stable(H: TransferFunction, rtol: float = 1e-9) -> bool:
@@ -121,9 +125,7 @@ def passivity(H_vw: TransferFunction, band_hz: tuple[float, float], loop_time_s:
     -------
     PassivityResult
     """
-    lo, hi = float(band_hz[0]), float(band_hz[1])
-    n = max(int(POINTS_PER_DECADE * np.log10(hi / lo)), 50)
-    f = np.logspace(np.log10(lo), np.log10(hi), n)
+    f = log_grid_hz(band_hz, POINTS_PER_DECADE)
 
     def tol(x):
         return delay_model_tolerance_deg(x, loop_time_s) + extra_tolerance_deg
