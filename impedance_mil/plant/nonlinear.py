@@ -178,26 +178,6 @@ def valve_command(pa, u, x_prev, dp_prev):
     return min(max(uv, -lim), lim)
 
 
-@njit(cache=True, error_model="numpy")
-def table_rk4(pa, xt, current, w_state, w_feed, dt, nsub, k1, k2, k3, k4, tmp):
-    """Advance the table alone by ``dt`` [s] with ``nsub`` RK4 substeps (constant w, current)."""
-    h = dt / nsub
-    n = xt.shape[0]
-    for _ in range(nsub):
-        table_derivative(pa, xt, current, w_state, w_feed, k1)
-        for i in range(n):
-            tmp[i] = xt[i] + 0.5 * h * k1[i]
-        table_derivative(pa, tmp, current, w_state, w_feed, k2)
-        for i in range(n):
-            tmp[i] = xt[i] + 0.5 * h * k2[i]
-        table_derivative(pa, tmp, current, w_state, w_feed, k3)
-        for i in range(n):
-            tmp[i] = xt[i] + h * k3[i]
-        table_derivative(pa, tmp, current, w_state, w_feed, k4)
-        for i in range(n):
-            xt[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-
-
 # --------------------------------------------------------------------------- value objects
 @dataclass(frozen=True)
 class Friction:

@@ -11,8 +11,10 @@ import pytest
 import scipy.linalg
 
 from impedance_mil.errors import ConfigError
+from impedance_mil.lab.kernels import plant_advance
+from impedance_mil.lab.plant_interface import specimen_arrays
 from impedance_mil.plant.nonlinear import (
-    IX_P1, IX_P2, IX_S, IX_X, Friction, NonlinearTable, port_flows, table_rk4, valve_command,
+    IX_P1, IX_P2, IX_S, IX_X, Friction, NonlinearTable, port_flows, valve_command,
 )
 
 from .conftest import eq_4_11, eq_4_14b, ss_response
@@ -107,7 +109,7 @@ def test_small_amplitude_sampled_loop_frf_equals_linear_sampled_model(table41):
     phases = rng.uniform(0, 2 * np.pi, bins.size)
     u = 1e-4 * np.sum(np.cos(2 * np.pi * np.outer(t, bins / (n_per * T)) + phases), axis=1)
     xt = table.equilibrium_state()
-    work = [np.empty(6) for _ in range(5)]
+    bare, work = specimen_arrays(None), np.empty((5, 6))
     x_rec = np.empty(t.size)
     dp_rec = np.empty(t.size)
     x_prev, dp_prev = 0.0, 0.0
@@ -115,7 +117,7 @@ def test_small_amplitude_sampled_loop_frf_equals_linear_sampled_model(table41):
         x_rec[k], dp_rec[k] = xt[IX_X], xt[IX_P1] - xt[IX_P2]
         uv = valve_command(pa, u[k], x_prev, dp_prev)
         x_prev, dp_prev = x_rec[k], dp_rec[k]
-        table_rk4(pa, xt, table.Kv * uv, 0.0, 0.0, T, 2, *work)
+        plant_advance(pa, xt, *bare, table.Kv * uv, T, 2, work)
     U = np.fft.rfft(u[-n_per:])[bins]
     f = bins / (n_per * T)
     for rec, row in ((x_rec, np.eye(5)[0]), (dp_rec, np.eye(5)[2])):
@@ -182,9 +184,9 @@ def test_end_stop_holds_the_table(table41):
     table = _table(table41)
     pa = table.parameter_array()
     xt = table.equilibrium_state()
-    work = [np.empty(6) for _ in range(5)]
+    bare, work = specimen_arrays(None), np.empty((5, 6))
     for _ in range(2000):
-        table_rk4(pa, xt, 30.0, 0.0, 0.0, 500e-6, 4, *work)
+        plant_advance(pa, xt, *bare, 30.0, 500e-6, 4, work)
     assert table.mid_stroke < xt[IX_X] < table.mid_stroke + 0.05
     assert xt[IX_S] == pytest.approx(30.0, rel=1e-3)
 
