@@ -26,7 +26,7 @@ III stability: passivity of ``H_vw = H_c/s`` (Eq 9-2) from 0.01 Hz to the
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 
@@ -114,35 +114,40 @@ class ControlledTable:
     H_wu : TransferFunction
         Whole path from ``w`` [lbf] to ``u`` [in], through the VS model for the
         standardized form.
-    factors : tuple
-        ``(H_zw^st, H_zu^st, H_uw, H_uz, H_zw^vs or None)``, the last being
-        the VS impedance closing ``w -> z_vs`` (see :func:`target_impedance`): the response is
-        evaluated factor by factor (:meth:`impedance`), which keeps full
-        precision where the polynomial products above lose a few digits to
-        clustered roots.
+    H_zw_st, H_zu_st : TransferFunction
+        The table's ``H_zw^st``, ``H_zu^st``.
+    H_uw, H_uz : TransferFunction
+        The filtered controller paths.
+    target : object or None
+        The VS impedance closing ``w -> z_vs`` (see :func:`target_impedance`);
+        None when the form closes no VS path.
+
+    The responses (:meth:`impedance`, :meth:`wu_response`) are evaluated from
+    these factors, which keeps full precision where the polynomial products
+    ``H_c``, ``H_wu`` lose a few digits to clustered roots; the polynomials
+    give the poles.
     """
 
     H_c: TransferFunction
     H_vw: TransferFunction
     H_wu: TransferFunction
-    factors: tuple = ()
+    H_zw_st: TransferFunction
+    H_zu_st: TransferFunction
+    H_uw: TransferFunction
+    H_uz: TransferFunction
+    target: Any = None
 
     def wu_response(self, f_hz) -> np.ndarray:
         """``H_wu`` at ``f_hz`` [Hz], factor by factor."""
-        if not self.factors:
-            return self.H_wu.frequency_response(f_hz)
-        _, _, H_uw, H_uz, H_vs = self.factors
-        out = H_uw.frequency_response(f_hz)
-        if H_vs is not None:
-            out = out + H_uz.frequency_response(f_hz) * H_vs.frequency_response(f_hz)
+        out = self.H_uw.frequency_response(f_hz)
+        if self.target is not None:
+            out = out + self.H_uz.frequency_response(f_hz) * self.target.frequency_response(f_hz)
         return out
 
     def impedance(self, f_hz) -> np.ndarray:
         """Controlled impedance ``H_c`` at ``f_hz`` [Hz] [in/s**2 per lbf]."""
-        if not self.factors:
-            return self.H_c.frequency_response(f_hz)
-        H_st, H_zu = self.factors[:2]
-        return H_st.frequency_response(f_hz) + H_zu.frequency_response(f_hz) * self.wu_response(f_hz)
+        return (self.H_zw_st.frequency_response(f_hz)
+                + self.H_zu_st.frequency_response(f_hz) * self.wu_response(f_hz))
 
     def velocity_response(self, f_hz) -> np.ndarray:
         """Force-velocity response ``H_c/(j 2 pi f)`` at ``f_hz`` [Hz] [in/s per lbf] (Eq 9-2)."""
@@ -237,8 +242,8 @@ def controlled_table(table: TableModel, vs: VirtualModel, H_uz: TransferFunction
         H_wu = H_uw
     H_c = (table.H_zw + table.H_zu.mul_cancel(H_wu)).minreal()
     H_vw = H_c.div_cancel(TransferFunction.s())
-    return ControlledTable(H_c, H_vw, H_wu,
-                           (table.H_zw, table.H_zu, H_uw, H_uz, target if closes_vs else None))
+    return ControlledTable(H_c, H_vw, H_wu, table.H_zw, table.H_zu, H_uw, H_uz,
+                           target if closes_vs else None)
 
 
 def target_impedance(vs: VirtualModel, form: str):
@@ -284,7 +289,7 @@ def evaluate_constraints(table: TableModel, vs: VirtualModel, ct: ControlledTabl
     Hc = ct.impedance(f)
     tracking = vs.H_zw.is_zero
     # The target is the VS impedance that closes w -> z_vs (the equivalent linearization, when used).
-    target = ct.factors[4] if ct.factors and ct.factors[4] is not None else vs.H_zw
+    target = ct.target if ct.target is not None else vs.H_zw
     ref = table.H_zw.frequency_response(f) if tracking else target.frequency_response(f)
     ratio = Hc / ref
     err = np.abs(ratio) if tracking else np.abs(ratio - 1.0)
