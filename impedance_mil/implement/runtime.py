@@ -171,15 +171,19 @@ class MILRuntime:
         self.vs = vs
         n_vs = vs.n_states if vs is not None else 0
         self.kind_code = int(vs.kind_code) if vs is not None else 0
-        # A user-defined VS (KIND_PYTHON) has no kernel: mil_step calls the object
-        # (float64 state, the VS's own Python arithmetic); the controller is the same.
-        self.python_vs = self.kind_code == KIND_PYTHON
         self.vs_params = (vs.parameter_array().astype(self.dtype)
                           if vs is not None and not self.python_vs else np.zeros(0, self.dtype))
         self.x_vs = np.zeros(n_vs, float if self.python_vs else self.dtype)
         self.work = np.zeros(4 * max(n_vs, 1), self.dtype)
         self._out = np.zeros(3, self.dtype)
         self.reset()
+
+    @property
+    def python_vs(self) -> bool:
+        """True for a user-defined VS (``KIND_PYTHON``): it has no kernel, so :meth:`mil_step`
+        calls the object (float64 state, the VS's own Python arithmetic); the controller is
+        the same."""
+        return self.kind_code == KIND_PYTHON
 
     @property
     def loop_time_s(self) -> float:
@@ -216,11 +220,16 @@ class MILRuntime:
         return MILStep(float(self._out[0]), float(self._out[1]), float(self._out[2]))
 
     def _python_mil_step(self, a_g: float, w: float) -> MILStep:
-        """:meth:`mil_step` for a user-defined VS: the same sequence as the kernel, in Python."""
-        z_vs = self.vs.outputs(self.x_vs, a_g, w).z_vs
+        """:meth:`mil_step` for a user-defined VS: the same sequence as the kernel, in Python.
+
+        Inputs and ``z_vs`` are rounded to the runtime dtype, as in the kernel (so that
+        :meth:`run_mil`, whose records are in that dtype, gives the same numbers).
+        """
+        a_g, w = float(self.dtype(a_g)), float(self.dtype(w))
+        z_vs = float(self.dtype(self.vs.outputs(self.x_vs, a_g, w).z_vs))
         self.x_vs[:] = self.vs.step_rk3(self.x_vs, a_g, w, self.loop_time_s)
         u, u_w = self.step_parts(z_vs, w)
-        return MILStep(u, float(z_vs), u_w)
+        return MILStep(u, z_vs, u_w)
 
     def run(self, z_vs, w) -> np.ndarray:
         """Step over records ``z_vs`` [in/s**2] and ``w`` [lbf]; return ``u`` [in] (runtime dtype)."""

@@ -8,7 +8,7 @@ import scipy.signal
 
 from impedance_mil.errors import ConfigError
 from impedance_mil.implement import MILRuntime, discretize
-from impedance_mil.virtual import presets
+from impedance_mil.virtual import example_two_storey, presets
 
 from .conftest import FC_HZ, LOOP_TIME_S, broadband_record
 
@@ -130,6 +130,20 @@ def test_mil_step_runs_the_vs_and_the_controller_in_one_loop(controller, record)
     rt.reset()
     first = rt.mil_step(a_g[0], w[0])
     assert first.u == trace.u[0] and first.z_vs == trace.z_vs[0]
+
+
+def test_python_vs_mil_step_equals_run_mil_in_single_precision(controller, record):
+    # A user-defined VS (Python path): loop-by-loop mil_step and run_mil give the same
+    # u and z_vs bit for bit, z_vs being the float32 value the controller used.
+    a_g, w = record[0][:400], record[1][:400]
+    rt = MILRuntime(controller, vs=example_two_storey(), precision="single")
+    assert rt.python_vs
+    trace = rt.run_mil(a_g, w)
+    rt.reset()
+    steps = [rt.mil_step(a, f) for a, f in zip(a_g, w)]
+    np.testing.assert_array_equal(np.array([s.u for s in steps]), trace.u)
+    np.testing.assert_array_equal(np.array([s.z_vs for s in steps]), trace.z_vs)
+    assert all(s.z_vs == np.float32(s.z_vs) for s in steps)
 
 
 def test_rmc_programs_update_with_a_g_differ_from_z_vs(controller, record):
