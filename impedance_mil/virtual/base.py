@@ -10,7 +10,7 @@ the absolute basemat acceleration ``z_vs`` [in/s**2] the table must imitate.
 Adding a VS of your own
 -----------------------
 Subclass :class:`VirtualSystem` as a frozen dataclass, set the class
-attributes ``kind`` and ``n_states``, and define :meth:`derivative`,
+attributes ``kind`` and ``user_n_states``, and define :meth:`derivative`,
 :meth:`outputs` and :meth:`linear_part` (and :meth:`nonlinear_input` if the
 linear part has one).  :meth:`step_rk3` and :meth:`simulate` then work
 through a Python path with the same RK3 tableau as the compiled kernel.

@@ -6,7 +6,8 @@ worked example of extending :class:`~impedance_mil.virtual.VirtualSystem`:
 a frozen dataclass with ``kind``, ``user_n_states``, :meth:`derivative`,
 :meth:`outputs` and :meth:`linear_part`; stepping and simulation come from
 the base class through its Python path (``kind_code == KIND_PYTHON``; the
-compiled lab loop must call the object instead of a kernel).
+virtual lab steps it through ``MILRuntime`` and the plant interface instead
+of the compiled loop).
 
 Model (relative to the ground, u = [u_b, u_1, u_2], v = du/dt)::
 
