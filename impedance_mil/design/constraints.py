@@ -39,9 +39,6 @@ from ..units import TWO_PI
 #: Half-power complex relative error, 1 - 10**(-3/20).
 HALF_POWER_ERROR = 1.0 - 10.0 ** (-3.0 / 20.0)
 
-#: Frequencies used when the loop is analog (loop time 0) [Hz].
-ANALOG_NYQUIST_HZ = 1000.0
-
 #: Points per decade for the performance and effort metrics.
 GRID_PER_DECADE = 200
 
@@ -88,14 +85,9 @@ class DesignCriteria:
             raise ConfigError("passivity_extra_tolerance_deg", "a non-negative angle in deg",
                               self.passivity_extra_tolerance_deg)
 
-    def nyquist_hz(self, loop_time_s: float) -> float:
-        """Upper end of the II and III bands [Hz]."""
-        return 0.5 / loop_time_s if loop_time_s > 0 else ANALOG_NYQUIST_HZ
-
-    def effort_band_hz(self, loop_time_s: float) -> tuple[float, float]:
-        """High-frequency band of constraint II [Hz]."""
-        nyq = self.nyquist_hz(loop_time_s)
-        return (2.0 * self.effort_start_fraction * nyq, nyq)
+    def effort_band_hz(self, nyquist_hz: float) -> tuple[float, float]:
+        """High-frequency band of constraint II [Hz] below the Nyquist frequency ``nyquist_hz`` [Hz]."""
+        return (2.0 * self.effort_start_fraction * nyquist_hz, nyquist_hz)
 
     def to_dict(self) -> dict:
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self).items()}
@@ -303,12 +295,12 @@ def evaluate_constraints(table: TableModel, vs: VirtualModel, ct: ControlledTabl
         ph_deg = float(phs[np.argmax(np.abs(phs))])
 
     in_band = np.max(np.abs(ct.wu_response(f)))
-    fh = log_grid_hz(c.effort_band_hz(table.loop_time_s), GRID_PER_DECADE)
+    fh = log_grid_hz(c.effort_band_hz(table.nyquist_hz), GRID_PER_DECADE)
     high = np.abs(ct.wu_response(fh))
     j = int(np.argmax(high))
     effort = float(high[j] / in_band) if in_band > 0 else float("inf")
 
-    pas: PassivityResult = passivity(ct.H_vw, (c.passivity_low_hz, c.nyquist_hz(table.loop_time_s)),
+    pas: PassivityResult = passivity(ct.H_vw, (c.passivity_low_hz, table.nyquist_hz),
                                      table.loop_time_s, c.passivity_extra_tolerance_deg,
                                      response=ct.velocity_response)
     return ConstraintResult(

@@ -314,7 +314,7 @@ def design_controller(table: TableModel, vs: Optional[VirtualModel] = None, *,
 def _warnings_for(table: TableModel, fc_hz: float, fc_w_hz: Optional[float],
                   results: list[ConstraintResult], no_vs: bool) -> list[str]:
     notes = []
-    nyq = 0.5 / table.loop_time_s if table.loop_time_s > 0 else np.inf
+    nyq = table.nyquist_hz if table.loop_time_s > 0 else np.inf   # no Nyquist limit for an analog loop
     for name, fc in (("fc", fc_hz), ("fc_w", fc_w_hz)):
         if fc is not None and fc >= nyq:
             notes.append(f"{name} = {fc:g} Hz is at or above the Nyquist frequency {nyq:g} Hz of the "

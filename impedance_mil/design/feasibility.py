@@ -138,8 +138,7 @@ class FeasibilityMap:
 
 def default_fc_grid(table: TableModel, points: int = DEFAULT_FC_POINTS) -> np.ndarray:
     """Log-spaced cut-offs [Hz] from 20 Hz to the Nyquist frequency of the loop (1000 Hz if analog)."""
-    top = 0.5 / table.loop_time_s if table.loop_time_s > 0 else 1000.0
-    return np.logspace(np.log10(DEFAULT_FC_LOW_HZ), np.log10(top), points)
+    return np.logspace(np.log10(DEFAULT_FC_LOW_HZ), np.log10(table.nyquist_hz), points)
 
 
 def scan_fc(table: TableModel, vs: Optional[VirtualModel], fc_grid_hz: Optional[Sequence[float]] = None,

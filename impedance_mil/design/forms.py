@@ -41,6 +41,9 @@ FORMS = ("standardized", "vs-specific", "tracking", "general")
 #: Reference input of each form (the signal multiplied by ``H_uz``).
 REFERENCE_INPUT = {"standardized": "z_vs", "tracking": "a_g", "general": "a_g", "vs-specific": "a_g"}
 
+#: Top of the design's frequency axes when the loop is analog (loop time 0) [Hz].
+ANALOG_NYQUIST_HZ = 1000.0
+
 #: Real part below which a pole counts as on the imaginary axis [rad/s], relative to its size.
 AXIS_RTOL = 1e-9
 
@@ -69,8 +72,8 @@ class TableModel:
 
     @property
     def nyquist_hz(self) -> float:
-        """Nyquist frequency of the controller loop [Hz]."""
-        return 0.5 / self.loop_time_s
+        """Nyquist frequency of the controller loop [Hz] (:data:`ANALOG_NYQUIST_HZ` for an analog loop)."""
+        return 0.5 / self.loop_time_s if self.loop_time_s > 0 else ANALOG_NYQUIST_HZ
 
 
 @dataclass(frozen=True)
