@@ -14,8 +14,11 @@ With this sign, force equilibrium of the table (report Eq 4-7b) reads
 
 The state space ``x' = A x + B z``, ``w = C x + D z`` is stored in plain,
 contiguous float64 arrays (``B`` and ``C`` as vectors, ``D`` a float) so the
-lab's compiled loop can integrate it directly; :func:`rk4_step` is a
-numba kernel that does so.
+lab's compiled loop can integrate it directly (coupled with the table, in
+:func:`impedance_mil.lab.kernels.plant_advance`, substeps chosen by
+:func:`impedance_mil.lab.substeps.choose_substeps`).  :func:`rk4_step` and
+:meth:`SpecimenStateSpace.rk4_substeps` integrate a specimen alone, driven by
+a given ``z`` (the lab does not use them).
 """
 
 from __future__ import annotations
