@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import warnings as _warnings
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Optional, Sequence
+from typing import Any, Mapping, NamedTuple, Optional, Sequence
 
 import numpy as np
 
@@ -23,9 +23,10 @@ from .. import __version__
 from ..errors import ConfigError, DesignWarning, ImilError, UnstableDesignError
 from ..systems import TransferFunction
 from ..units import TWO_PI
-from .constraints import ConstraintResult, DesignCriteria, controlled_table, evaluate_constraints
+from .constraints import (ConstraintResult, ControlledTable, DesignCriteria, controlled_table,
+                          evaluate_constraints)
 from .filters import FAMILIES, apply_filter
-from .forms import FORMS, IdealController, TableModel, VirtualModel, ideal_controller
+from .forms import FORMS, IdealController, TableModel, VirtualModel, environment, ideal_controller
 
 
 @dataclass(frozen=True)
@@ -173,6 +174,29 @@ def filter_controller(ideal: IdealController, fc_hz: float, family: str = "butte
     return FilteredPaths(H_uz, H_uw, H_ufh, FilterSpec(family, oz, ow, of, ripple_db, fc_w_hz))
 
 
+class DesignAtFc(NamedTuple):
+    """One cut-off of a design: filtered paths, controlled table, constraints (internal result)."""
+
+    paths: FilteredPaths
+    controlled: ControlledTable
+    constraints: ConstraintResult
+
+
+def design_at_fc(table: TableModel, env: VirtualModel, ideal: IdealController, fc_hz: float,
+                 criteria: Optional[DesignCriteria] = None, *, family: str = "butterworth",
+                 order: Optional[int] = None, ripple_db: float = 0.5,
+                 fc_w_hz: Optional[float] = None) -> DesignAtFc:
+    """Filter ``ideal`` at ``fc_hz`` [Hz] (:func:`filter_controller`) and evaluate constraints I, II, III.
+
+    ``env`` is the VS model of :func:`~impedance_mil.design.forms.environment`;
+    the other parameters are those of :func:`filter_controller` and
+    :func:`~impedance_mil.design.constraints.evaluate_constraints`.
+    """
+    paths = filter_controller(ideal, fc_hz, family, order, ripple_db, fc_w_hz)
+    ct = controlled_table(table, env, paths.H_uz, paths.H_uw, ideal.form)
+    return DesignAtFc(paths, ct, evaluate_constraints(table, env, ct, fc_hz, criteria))
+
+
 def check_proper_and_stable(paths: FilteredPaths) -> list[str]:
     """Refuse an improper or unstable filtered controller; return warnings for marginal poles.
 
@@ -264,7 +288,7 @@ def design_controller(table: TableModel, vs: Optional[VirtualModel] = None, *,
         if value is not None and not (np.isfinite(value) and value > 0):
             raise ConfigError(key, "a positive cut-off frequency in Hz", value)
     c = criteria or DesignCriteria()
-    env = VirtualModel.rigid() if form == "tracking" or vs is None else vs
+    env = environment(form, vs)
     try:
         ideal = ideal_controller(form, table, env)
     except ValueError as exc:
@@ -277,13 +301,12 @@ def design_controller(table: TableModel, vs: Optional[VirtualModel] = None, *,
     for k, fc in enumerate([fc_hz, *[x for x in evaluate_fc_hz if not np.isclose(x, fc_hz)]]):
         if not (np.isfinite(fc) and fc > 0):
             raise ConfigError("fc", "a positive cut-off frequency in Hz", fc)
-        fw = fc_w_hz if k == 0 else None
-        p = filter_controller(ideal, fc, family, order, ripple_db, fw)
+        at = design_at_fc(table, env, ideal, fc, c, family=family, order=order, ripple_db=ripple_db,
+                          fc_w_hz=fc_w_hz if k == 0 else None)
         if k == 0:
-            paths = p
-            notes += check_proper_and_stable(p)
-        ct = controlled_table(table, env, p.H_uz, p.H_uw, form)
-        results.append(evaluate_constraints(table, env, ct, fc, c))
+            paths = at.paths
+            notes += check_proper_and_stable(at.paths)
+        results.append(at.constraints)
     notes += _warnings_for(table, fc_hz, fc_w_hz, results, vs is None and form == "standardized")
     if form == "tracking" or vs is None:
         notes.append("tracking: the target impedance is zero (a lossless, rigid environment), so constraint I "

@@ -18,10 +18,10 @@ import numpy as np
 
 from ..errors import ImilError
 from ..systems import TransferFunction
-from .constraints import ConstraintResult, DesignCriteria, controlled_table, evaluate_constraints
+from .constraints import ConstraintResult, DesignCriteria
 from .coupled import CoupledStability, coupled_stability
-from .controller import filter_controller
-from .forms import TableModel, VirtualModel, ideal_controller
+from .controller import design_at_fc
+from .forms import TableModel, VirtualModel, environment, ideal_controller
 
 #: Default grid of cut-offs [Hz]: 30 log-spaced points from 20 Hz to the Nyquist frequency.
 DEFAULT_FC_POINTS = 30
@@ -156,14 +156,11 @@ def scan_fc(table: TableModel, vs: Optional[VirtualModel], fc_grid_hz: Optional[
     form, family, order, criteria
         As for :func:`~impedance_mil.design.design_controller`.
     """
-    env = VirtualModel.rigid() if vs is None or form == "tracking" else vs
+    env = environment(form, vs)
     ideal = ideal_controller(form, table, env)
     grid = np.sort(np.asarray(default_fc_grid(table) if fc_grid_hz is None else fc_grid_hz, float))
-    results = []
-    for fc in grid:
-        paths = filter_controller(ideal, float(fc), family, order)
-        ct = controlled_table(table, env, paths.H_uz, paths.H_uw, form)
-        results.append(evaluate_constraints(table, env, ct, float(fc), criteria))
+    results = [design_at_fc(table, env, ideal, float(fc), criteria, family=family, order=order).constraints
+               for fc in grid]
     return FcScan(tuple(results), _widest_run(results))
 
 
@@ -262,11 +259,11 @@ def mass_ratio_study(table: TableModel, vs_for_mass: Callable[[float], VirtualMo
         scan = scan_fc(table, vs, fc_grid_hz, form=form, criteria=criteria)
         at, coupled = None, ()
         if design_fc_hz is not None:
-            env = VirtualModel.rigid() if form == "tracking" else vs
-            paths = filter_controller(ideal_controller(form, table, env), float(design_fc_hz))
-            ct = controlled_table(table, env, paths.H_uz, paths.H_uw, form)
-            at = evaluate_constraints(table, env, ct, float(design_fc_hz), criteria)
-            coupled = tuple(coupled_stability(ct.H_c, Z, label) for label, Z in (specimens or {}).items())
+            env = environment(form, vs)
+            design = design_at_fc(table, env, ideal_controller(form, table, env), float(design_fc_hz), criteria)
+            at = design.constraints
+            coupled = tuple(coupled_stability(design.controlled.H_c, Z, label)
+                            for label, Z in (specimens or {}).items())
         out.append(MassRatioCase(float(ratio), scan.feasible_fc_hz, scan, design_fc_hz, at, coupled))
     return tuple(out)
 

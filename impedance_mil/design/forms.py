@@ -145,6 +145,11 @@ class IdealController:
         return out
 
 
+def environment(form: str, vs: Optional[VirtualModel]) -> VirtualModel:
+    """The VS model a design of ``form`` answers to: the rigid environment for tracking or without a VS."""
+    return VirtualModel.rigid() if form == "tracking" or vs is None else vs
+
+
 def check_table(table: TableModel) -> None:
     """Refuse a table model that no impedance-matching controller can invert.
 
