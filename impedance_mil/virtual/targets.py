@@ -17,7 +17,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..errors import ConfigError
 from ..units import G0, TWO_PI
 from .base import _nonnegative, _positive
 from .models import FrictionPendulum, LeadRubber, SpringDamper
@@ -150,8 +149,6 @@ class FPTargets:
     def build(self) -> FrictionPendulum:
         """``k_s = (2*pi/T_s)**2*M`` (``R_eff = g*(T_s/2/pi)**2``); the rest passes through."""
         M = _total_mass(self.m_vs, self.w_ps)
-        if self.mu_min > self.mu_max:
-            raise ConfigError("mu_min", f"mu_min <= mu_max = {self.mu_max}", self.mu_min)
         return FrictionPendulum(m_vs=self.m_vs, k_s=_post_elastic_stiffness(self.T_s, M),
                                 mu_max=self.mu_max, mu_min=self.mu_min, a=self.a, u_y=self.u_y,
                                 w_ps=self.w_ps, n=self.n)
