@@ -26,7 +26,8 @@ from ..units import TWO_PI
 from .constraints import (ConstraintResult, ControlledTable, DesignCriteria, controlled_table,
                           evaluate_constraints)
 from .filters import FAMILIES, apply_filter
-from .forms import FORMS, IdealController, TableModel, VirtualModel, environment, ideal_controller
+from .forms import (FORMS, IdealController, TableModel, VirtualModel, environment, ideal_controller,
+                    imaginary_axis, right_half_plane)
 
 
 @dataclass(frozen=True)
@@ -216,12 +217,13 @@ def check_proper_and_stable(paths: FilteredPaths) -> list[str]:
         if not H.is_proper:
             raise UnstableDesignError(f"filtered {name} is improper (relative degree {H.relative_degree})")
         p = H.poles()
-        size = np.maximum(np.abs(p), 1.0)
-        if np.any(p.real > 1e-9 * size):
-            worst = p[np.argmax(p.real)]
+        bad = right_half_plane(p)
+        if bad.size:
+            worst = bad[np.argmax(bad.real)]
             raise UnstableDesignError(
                 f"filtered {name} has an unstable pole at {worst.real:.4g}{worst.imag:+.4g}j rad/s")
-        axis = p[(np.abs(p.real) <= 1e-9 * size) & (np.abs(p) > 1e-9)]
+        axis = imaginary_axis(p)
+        axis = axis[np.abs(axis) > 1e-9]      # poles at the origin are expected (Eq 6-8a)
         if axis.size:
             notes.append(f"{name} has undamped poles at {np.abs(axis[0]) / TWO_PI:.3g} Hz "
                          "(lossless VS linear part): the controller relies on the VS model's f_h for damping")

@@ -145,6 +145,18 @@ class IdealController:
         return out
 
 
+def right_half_plane(roots, rtol: float = AXIS_RTOL) -> np.ndarray:
+    """The roots [rad/s] in the open right half plane: ``Re r > rtol*max(|r|, 1)``."""
+    r = np.asarray(roots)
+    return r[r.real > rtol * np.maximum(np.abs(r), 1.0)]
+
+
+def imaginary_axis(roots, rtol: float = AXIS_RTOL) -> np.ndarray:
+    """The roots [rad/s] on the imaginary axis (the origin included): ``|Re r| <= rtol*max(|r|, 1)``."""
+    r = np.asarray(roots)
+    return r[np.abs(r.real) <= rtol * np.maximum(np.abs(r), 1.0)]
+
+
 def environment(form: str, vs: Optional[VirtualModel]) -> VirtualModel:
     """The VS model a design of ``form`` answers to: the rigid environment for tracking or without a VS."""
     return VirtualModel.rigid() if form == "tracking" or vs is None else vs
@@ -172,8 +184,7 @@ def check_table(table: TableModel) -> None:
                 "reduce Ke or Kp, or shorten loop_time")
         if not H.is_proper:
             raise UnstableDesignError(f"table {name} is improper (relative degree {H.relative_degree})")
-    zeros = table.H_zu.zeros()
-    bad = zeros[zeros.real > AXIS_RTOL * np.maximum(np.abs(zeros), 1.0)]
+    bad = right_half_plane(table.H_zu.zeros())
     if bad.size:
         raise UnstableDesignError(
             f"H_zu has a right-half-plane zero at {bad[0].real:.4g}{bad[0].imag:+.4g}j rad/s: "
@@ -197,8 +208,7 @@ def check_virtual(vs: VirtualModel) -> None:
         if not H.is_proper:
             raise UnstableDesignError(
                 f"virtual system {name} is improper (relative degree {H.relative_degree}): not causal")
-        p = H.poles()
-        bad = p[p.real > AXIS_RTOL * np.maximum(np.abs(p), 1.0)]
+        bad = right_half_plane(H.poles())
         if bad.size:
             raise UnstableDesignError(
                 f"virtual system {name} has an unstable pole at {bad[0].real:.4g}{bad[0].imag:+.4g}j rad/s")

@@ -29,6 +29,7 @@ from scipy.optimize import minimize_scalar
 
 from ..systems import TransferFunction
 from ..units import TWO_PI
+from .forms import AXIS_RTOL, imaginary_axis, right_half_plane
 
 #: Points per decade of the frequency grid used to find the worst margin.
 POINTS_PER_DECADE = 400
@@ -87,15 +88,14 @@ def log_grid_hz(band_hz: tuple[float, float], points_per_decade: int) -> np.ndar
     return np.logspace(np.log10(lo), np.log10(hi), max(int(points_per_decade * np.log10(hi / lo)), 50))
 
 
-def is_passive_stable(H: TransferFunction, rtol: float = 1e-9) -> bool:
+def is_passive_stable(H: TransferFunction, rtol: float = AXIS_RTOL) -> bool:
     """Stable in the sense needed for passivity: open-LHP poles, or simple poles on the jw axis."""
     p = H.poles()
     if p.size == 0:
         return True
-    size = np.maximum(np.abs(p), 1.0)
-    if np.any(p.real > rtol * size):
+    if right_half_plane(p, rtol).size:
         return False
-    axis = p[np.abs(p.real) <= rtol * size]
+    axis = imaginary_axis(p, rtol)
     for i, a in enumerate(axis):
         if np.any(np.abs(np.delete(axis, i) - a) <= 1e-6 * max(abs(a), 1.0)):
             return False
