@@ -23,12 +23,10 @@ from ..campaign.executors import DEFAULT_CONNECT_TIMEOUT_S
 from ..config import parse_overrides
 from ..report.reproduction import write_reproduction_report
 from .common import console, print_json
+from .runopts import EXIT_INTERRUPTED
 
 app = typer.Typer(help="Parameter sweeps (campaigns) and the report-reproduction suite.",
                   no_args_is_help=True)
-
-#: Exit status after an interrupt (like a shell after SIGINT).
-EXIT_INTERRUPTED = 130
 
 
 def _load(campaign: str, reduced: bool, max_runs: int, overrides: Optional[List[str]]):

@@ -49,6 +49,7 @@ from .runopts import (DEFAULT_FC_HZ, DEFAULT_MOTION, DEFAULT_TIME_SCALE, EXIT_AB
 
 TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default report Table 4.1.")
 SetOpt = typer.Option(None, "--set", help="Table value KEY=VALUE (repeatable), e.g. Kp=0.0006.")
+SpecimenOpt = typer.Option("vessel", "--specimen", help=SPECIMEN_HELP)
 WaterOpt = typer.Option(None, "--water-depth", help="Water in the vessel [in] (default 36; '0.9 m' works).")
 WeightOpt = typer.Option(None, "--specimen-weight", help="Weight of --specimen rigid [lbf] (default 3600).")
 MotionOpt = typer.Option(DEFAULT_MOTION, "--motion", help=SOURCE_HELP)
@@ -264,7 +265,7 @@ def run_command(request: ControlledRequest, output: Path, report: Optional[Path]
 
 def simulate(
     table: Optional[Path] = TableOpt,
-    specimen: str = typer.Option("vessel", "--specimen", help=SPECIMEN_HELP),
+    specimen: str = SpecimenOpt,
     water_depth: Optional[str] = WaterOpt,
     specimen_weight: Optional[str] = WeightOpt,
     vs: str = typer.Option("SD2", "--vs", help="VS preset (" + ", ".join(presets.names()) + ") or VS file (TOML)."),
@@ -296,7 +297,7 @@ def simulate(
 
 def track(
     table: Optional[Path] = TableOpt,
-    specimen: str = typer.Option("vessel", "--specimen", help=SPECIMEN_HELP),
+    specimen: str = SpecimenOpt,
     water_depth: Optional[str] = WaterOpt,
     specimen_weight: Optional[str] = WeightOpt,
     sets: Optional[List[str]] = SetOpt,
