@@ -1,14 +1,16 @@
-"""Small helpers shared by the CLI commands (printing, JSON output, the table option)."""
+"""Small helpers shared by the CLI commands (printing, JSON output, the table option, number lists)."""
 
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Any, List, Optional
 
 from rich.console import Console
 
 from ..config import parse_overrides
+from ..errors import ConfigError
 from ..fileio import json_safe
 from ..plant import TableParameters, default_table_path
 
@@ -24,3 +26,24 @@ def print_json(data: Any) -> None:
 def table_parameters(table: Optional[Path], sets: Optional[List[str]] = None) -> TableParameters:
     """``--table`` (default report Table 4.1) with ``--set`` overrides (errors name the key or file)."""
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
+
+
+def positive_numbers(option: str, text: str, malformed: str, invalid: str,
+                     count: Optional[int] = None) -> list[float]:
+    """``"80,100,250"`` -> ``[80.0, 100.0, 250.0]``: comma-separated positive finite numbers.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``option``: ``malformed`` when a part is not a number,
+        ``invalid`` when there is none, not ``count``, or one is not positive
+        and finite.
+    """
+    try:
+        values = [float(part) for part in text.split(",") if part.strip()]
+    except ValueError:
+        raise ConfigError(option, malformed, text) from None
+    if not values or (count is not None and len(values) != count) or \
+            not all(v > 0 and math.isfinite(v) for v in values):
+        raise ConfigError(option, invalid, text)
+    return values

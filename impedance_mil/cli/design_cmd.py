@@ -31,7 +31,7 @@ from ..specimens import FluidVessel
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
 from ..virtual.files import resolve
-from .common import console, print_json, table_parameters
+from .common import console, positive_numbers, print_json, table_parameters
 
 
 #: Water depths of the report's vessel [in] (Sections 4.5, 8, 9) for the coupled-stability check.
@@ -42,25 +42,15 @@ def _parse_fc(text: str) -> Optional[list[float]]:
     """``"auto"`` -> None; ``"80"`` or ``"80,100,250"`` -> list of positive floats [Hz]."""
     if text.strip().lower() == "auto":
         return None
-    try:
-        values = [float(part) for part in text.split(",") if part.strip()]
-    except ValueError:
-        raise ConfigError("--fc", "a cut-off in Hz, a comma-separated list, or 'auto'", text) from None
-    if not values or any(not (v > 0 and v < float("inf")) for v in values):
-        raise ConfigError("--fc", "positive cut-off frequencies in Hz", text)
-    return values
+    return positive_numbers("--fc", text, "a cut-off in Hz, a comma-separated list, or 'auto'",
+                            "positive cut-off frequencies in Hz")
 
 
 def _parse_list(option: str, text: Optional[str], count: Optional[int] = None) -> Optional[list[float]]:
     if text is None:
         return None
-    try:
-        values = [float(part) for part in text.split(",") if part.strip()]
-    except ValueError:
-        raise ConfigError(option, "comma-separated numbers", text) from None
-    if not values or (count is not None and len(values) != count) or any(v <= 0 for v in values):
-        raise ConfigError(option, f"{count or 'some'} positive comma-separated numbers", text)
-    return values
+    return positive_numbers(option, text, "comma-separated numbers",
+                            f"{count or 'some'} positive comma-separated numbers", count)
 
 
 def design(

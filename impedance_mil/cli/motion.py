@@ -26,7 +26,7 @@ from ..signals import (BUILTIN_MOTIONS, DEFAULT_PERIODS, GroundMotion, TableLimi
                        check_motion, read_fema_p695, read_motion, response_spectrum,
                        write_columns)
 from ..units import G0
-from .common import console, print_json, table_parameters
+from .common import console, positive_numbers, print_json, table_parameters
 
 app = typer.Typer(help="Ground motions: info, response spectrum, table feasibility check.",
                   no_args_is_help=True)
@@ -68,19 +68,17 @@ def parse_periods(text: str | None) -> np.ndarray:
     """``"0.02,0.1,1"`` (periods [s]) or ``"log:0.01:10:100"`` (n log-spaced); default 100 from 0.01 to 10 s."""
     if text is None:
         return DEFAULT_PERIODS
+    malformed = "comma-separated periods in s or log:MIN:MAX:N"
+    if not text.strip().lower().startswith("log:"):
+        return np.array(positive_numbers("--periods", text, malformed, "one or more positive periods in s"))
     try:
-        if text.strip().lower().startswith("log:"):
-            _, lo, hi, n = text.split(":")
-            low, high, count = float(lo), float(hi), int(n)
-            if not (0 < low < high and count >= 2):
-                raise ValueError
-            return np.logspace(np.log10(low), np.log10(high), count)
-        values = np.array([float(v) for v in text.split(",") if v.strip()])
+        _, lo, hi, n = text.split(":")
+        low, high, count = float(lo), float(hi), int(n)
+        if not (0 < low < high and count >= 2):
+            raise ValueError
     except ValueError:
-        raise ConfigError("--periods", "comma-separated periods in s or log:MIN:MAX:N", text) from None
-    if values.size == 0 or not np.all(np.isfinite(values)) or np.any(values <= 0):
-        raise ConfigError("--periods", "one or more positive periods in s", text)
-    return values
+        raise ConfigError("--periods", malformed, text) from None
+    return np.logspace(np.log10(low), np.log10(high), count)
 
 
 def _summary(motion: GroundMotion) -> dict:

@@ -38,7 +38,7 @@ from ..plant import TableParameters
 from ..signals.multisine import report_multisine
 from ..virtual import presets
 from ..virtual.files import VSSpec, resolve
-from .common import console, print_json, table_parameters
+from .common import console, positive_numbers, print_json, table_parameters
 from .motion import SOURCE_HELP, UNITS_HELP
 from .report_cmd import MODEL_LOOP, model_loop, write_report
 from .runopts import (DEFAULT_FC_HZ, DEFAULT_MOTION, DEFAULT_TIME_SCALE, EXIT_ABORTED,
@@ -327,13 +327,8 @@ def track(
 
 def kp_list(text: str) -> list[float]:
     """``"0.0002,0.001"`` -> positive K_p values [V/psi]."""
-    try:
-        values = [float(part) for part in text.split(",") if part.strip()]
-    except ValueError:
-        raise ConfigError("--kp-values", "comma-separated K_p values in V/psi", text) from None
-    if not values or any(not (v > 0 and np.isfinite(v)) for v in values):
-        raise ConfigError("--kp-values", "positive K_p values in V/psi", text)
-    return values
+    return positive_numbers("--kp-values", text, "comma-separated K_p values in V/psi",
+                            "positive K_p values in V/psi")
 
 
 def identified(exp: FrfExperiment) -> dict:

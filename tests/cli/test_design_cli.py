@@ -52,6 +52,8 @@ def test_auto_cut_off_with_reasons():
     (["--vs", "SD9"], "preset"),
     (["--vs", "SD2", "--form", "nope"], "--form"),
     (["--form", "general"], "--vs"),
+    (["--vs", "SD2", "--band", "nan,15"], "--band"),     # NaN/inf passed _parse_list before
+    (["--vs", "SD2", "--mass-ratios", "1.25,inf"], "--mass-ratios"),
 ])
 def test_bad_input_is_one_line_exit_2(tmp_path, monkeypatch, capsys, args, message):
     # Through cli.main.run(), the entry point of the `imil` script, in-process (fast).
