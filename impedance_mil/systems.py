@@ -16,7 +16,7 @@ inside the polynomials.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Iterable, Union
+from typing import Iterable
 
 import control
 import numpy as np
@@ -26,9 +26,6 @@ from .units import TWO_PI
 
 #: Default relative tolerance for pole-zero cancellation.
 CANCEL_RTOL = 1e-6
-
-Number = Union[int, float, complex, np.number]
-
 
 #: Relative size below which the sum of two coefficients counts as exact cancellation.
 SUM_RTOL = 1e-12

@@ -204,10 +204,6 @@ class EquivalentLinearization:
         w = TWO_PI * np.asarray(f_hz, dtype=float)
         return -w**2 / (self.stiffness(f_hz) - self.m_vs * w**2)
 
-    @property
-    def is_zero(self) -> bool:
-        return False
-
     def to_dict(self) -> dict:
         return {"method": self.method, "amplitude_in": self.amplitude_in, "effective_hz": self.effective_hz,
                 "k_eff": self.k_eff, "beta_eff": self.beta_eff, "c_eq": self.c_eq}
