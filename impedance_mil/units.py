@@ -35,9 +35,6 @@ import math
 #: Standard gravity [in/s**2] (9.80665 m/s**2 / 0.0254 m/in).
 G0: float = 9.80665 / 0.0254
 
-#: Weight-to-mass factor: a weight W [lbf] has mass W / G0 [lbf*s**2/in].
-LBF_PER_G0: float = 1.0 / G0
-
 #: Angular frequency per Hz [rad/s per Hz].
 TWO_PI: float = 2.0 * math.pi
 
@@ -67,24 +64,9 @@ PINT_DEFINITIONS: tuple[str, ...] = (
 )
 
 
-def hz_to_rad(f_hz: float) -> float:
-    """Convert a frequency [Hz] to an angular frequency [rad/s]."""
-    return TWO_PI * f_hz
-
-
-def rad_to_hz(omega: float) -> float:
-    """Convert an angular frequency [rad/s] to a frequency [Hz]."""
-    return omega / TWO_PI
-
-
 def weight_to_mass(weight_lbf: float) -> float:
     """Mass [lbf*s**2/in] of a body of the given weight [lbf]."""
     return weight_lbf / G0
-
-
-def mass_to_weight(mass: float) -> float:
-    """Weight [lbf] of a body of the given mass [lbf*s**2/in]."""
-    return mass * G0
 
 
 def g_to_in_s2(acc_g: float):
