@@ -117,8 +117,8 @@ def _synthesize(lines, phases, n_points) -> np.ndarray:
 def _min_crest_phases(lines, phases, n_points, iterations) -> np.ndarray:
     """Iterative clipping (Van der Ouderaa et al. 1988), keeping the best phases found."""
     best = phases.copy()
-    best_cf = crest_factor(_synthesize(lines, phases, n_points))
     x = _synthesize(lines, phases, n_points)
+    best_cf = crest_factor(x)
     for it in range(iterations):
         peak = np.max(np.abs(x))
         clip_level = peak * (0.85 + 0.1 * it / max(iterations, 1))
