@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from impedance_mil.design import design_controller
 from impedance_mil.design.feasibility import choose_fc, feasibility_map, mass_ratio_study, scan_fc
 
 from .conftest import MST, sd_model
@@ -46,6 +47,14 @@ def test_feasibility_map_over_mass_and_stiffness(table):
     assert fmap.feasible.shape == (2, 2)
     assert fmap.feasible[:, 1].all() and not fmap.feasible[:, 0].any()   # heavy basemat yes, light no
     assert np.all(fmap.fc_low_hz[fmap.feasible] <= fmap.fc_high_hz[fmap.feasible])
+    # Independent route: the ends of each feasible range are cut-offs on the grid at which a design made
+    # with design_controller satisfies I, II and III.
+    for i, j in zip(*np.nonzero(fmap.feasible)):
+        lo, hi = fmap.fc_low_hz[i, j], fmap.fc_high_hz[i, j]
+        assert np.isclose(grid, lo, rtol=1e-12).any() and np.isclose(grid, hi, rtol=1e-12).any()
+        vs = sd_model(m_vs=fmap.x[j], k=fmap.y[i])
+        d = design_controller(table, vs, fc_hz=lo, evaluate_fc_hz=[hi], emit_warnings=False)
+        assert all(r.all_satisfied for r in d.constraints)
 
 
 def test_unstable_vs_is_infeasible_not_an_abort(table):
