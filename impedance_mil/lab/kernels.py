@@ -122,6 +122,28 @@ def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, dt
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def bank_inner_stage(ys, tmp, acc, Cs, osc_k, osc_c, z, c):
+    """RK4 stage 2 or 3 of :func:`advance_bank`; returns the next stage's ``w_s`` [lbf].
+
+    The bank's derivative at the stage state ``tmp`` for table acceleration
+    ``z`` [in/s^2] is added twice to the RK4 sum ``acc``; the next stage's
+    state ``ys + c * derivative`` (``c`` [s]: half the substep for stage 2,
+    the whole one for stage 3) replaces ``tmp``.
+    """
+    n = osc_k.shape[0]
+    ws = 0.0
+    for i in range(n):
+        q, qd = tmp[i], tmp[n + i]
+        dq, dqd = qd, -z + osc_k[i] * q + osc_c[i] * qd
+        acc[i] += 2.0 * dq
+        acc[n + i] += 2.0 * dqd
+        tq, tqd = ys[i] + c * dq, ys[n + i] + c * dqd
+        tmp[i], tmp[n + i] = tq, tqd
+        ws += Cs[i] * tq + Cs[n + i] * tqd
+    return ws
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work):
     """:func:`plant_advance` for a bank of oscillators (``kind == SPEC_BANK``).
 
@@ -153,27 +175,11 @@ def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work):
         x2, v2, p12, p22, s2, sd2 = (x + 0.5 * h * v, v + 0.5 * h * z1, p1 + 0.5 * h * e1,
                                      p2 + 0.5 * h * f1, s + 0.5 * h * sd, sd + 0.5 * h * g1)
         z2, e2, f2, g2 = table_rates(pa, x2, v2, p12, p22, s2, sd2, current, ws, Ds)
-        ws = 0.0
-        for i in range(n):
-            q, qd = tmp[i], tmp[n + i]
-            dq, dqd = qd, -z2 + osc_k[i] * q + osc_c[i] * qd
-            acc[i] += 2.0 * dq
-            acc[n + i] += 2.0 * dqd
-            tq, tqd = ys[i] + 0.5 * h * dq, ys[n + i] + 0.5 * h * dqd
-            tmp[i], tmp[n + i] = tq, tqd
-            ws += Cs[i] * tq + Cs[n + i] * tqd
+        ws = bank_inner_stage(ys, tmp, acc, Cs, osc_k, osc_c, z2, 0.5 * h)
         x3, v3, p13, p23, s3, sd3 = (x + 0.5 * h * v2, v + 0.5 * h * z2, p1 + 0.5 * h * e2,
                                      p2 + 0.5 * h * f2, s + 0.5 * h * sd2, sd + 0.5 * h * g2)
         z3, e3, f3, g3 = table_rates(pa, x3, v3, p13, p23, s3, sd3, current, ws, Ds)
-        ws = 0.0
-        for i in range(n):
-            q, qd = tmp[i], tmp[n + i]
-            dq, dqd = qd, -z3 + osc_k[i] * q + osc_c[i] * qd
-            acc[i] += 2.0 * dq
-            acc[n + i] += 2.0 * dqd
-            tq, tqd = ys[i] + h * dq, ys[n + i] + h * dqd
-            tmp[i], tmp[n + i] = tq, tqd
-            ws += Cs[i] * tq + Cs[n + i] * tqd
+        ws = bank_inner_stage(ys, tmp, acc, Cs, osc_k, osc_c, z3, h)
         x4, v4, p14, p24, s4, sd4 = (x + h * v3, v + h * z3, p1 + h * e3, p2 + h * f3,
                                      s + h * sd3, sd + h * g3)
         z4, e4, f4, g4 = table_rates(pa, x4, v4, p14, p24, s4, sd4, current, ws, Ds)
