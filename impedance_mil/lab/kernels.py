@@ -12,14 +12,15 @@ One loop tick (loop time T, tick k at t_k = k T), as on the RMC75E (Section 7.3.
 3. **controller**: open loop (``u`` given), acceleration tracking
    (``z_vs = a_g``) or MIL (VS RK3 step then controller), using the runtime
    kernels of :mod:`impedance_mil.implement`;
-4. **hydraulic loop** (:func:`impedance_mil.plant.nonlinear.valve_command`):
+4. **hydraulic loop** (:func:`hydraulic_step`):
    ``u_v(k) = K_e (u(k) - x_m(k-1)) - K_p dP_m(k-1)``, held over the loop (ZOH);
 5. **advance** (:func:`plant_advance`): the continuous plant (nonlinear table +
    specimen state space) integrated over T with fixed RK4 substeps.
 
 The Python plant interface (:class:`impedance_mil.lab.plant_interface.VirtualTable`)
-calls the same ``plant_sense``, ``valve_command`` and ``plant_advance``; the
-compiled :func:`run_loop` is the fast implementation of that contract.
+calls the same ``plant_sense``, ``check_limits``, ``hydraulic_step`` and
+``plant_advance``; the compiled :func:`run_loop` is the fast implementation of
+that contract.
 
 Plant state ``y = [table states (6), specimen states (n)]``.
 """
@@ -301,6 +302,20 @@ def check_limits(pa, lim, y, meas, uv, sat_ticks):
     return 0, 0.0
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def hydraulic_step(pa, u, x_prev, dp_prev, sat_ticks):
+    """Step 4 of a tick: returns ``(u_v [V], saturated ticks, valve current [mA])``.
+
+    :func:`~impedance_mil.plant.nonlinear.valve_command` for the position
+    command ``u`` [in] and the previous loop's measurements ``x_prev`` [in],
+    ``dp_prev`` [psi]; ``sat_ticks`` counts the consecutive loops with ``u_v``
+    at its limit (reset when it leaves it), as :func:`check_limits` reads it.
+    """
+    uv = valve_command(pa, u, x_prev, dp_prev)
+    sat = sat_ticks + 1 if abs(uv) >= pa[PA_UVMAX] else 0
+    return uv, sat, pa[PA_KV] * uv
+
+
 # ``_nrt=False``: the loop runs without numba's reference counting.  With it, every
 # array view made per tick (a noise row, the specimen part of y, a work row) and
 # many array arguments of the inlined kernels cost an atomic increment and
@@ -392,12 +407,10 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc
             u = out2[0]
             z_vs = out2[1]
             u_w = out2[2]
-        uv = valve_command(pa, u, x_prev, dp_prev)
+        uv, sat, current = hydraulic_step(pa, u, x_prev, dp_prev, sat)
         x_prev = meas[M_X]
         dp_prev = meas[M_DP]
-        sat = sat + 1 if abs(uv) >= pa[PA_UVMAX] else 0
         uv_last = uv
-        current = pa[PA_KV] * uv
         rec[C_T, k] = k * dt
         rec[C_AG, k] = a_g[k]
         rec[C_ZVS, k] = z_vs

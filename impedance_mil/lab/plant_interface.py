@@ -5,7 +5,7 @@ A MIL program sees the table through four calls (the RMC75E's axis, Section
 loop time pass.  :class:`PlantInterface` is that contract; a link to a real
 controller can implement it, and :class:`VirtualTable` implements it with the
 nonlinear table of :mod:`impedance_mil.plant.nonlinear`, calling the same
-compiled functions (``plant_sense``, ``valve_command``, ``plant_advance``,
+compiled functions (``plant_sense``, ``hydraulic_step``, ``plant_advance``,
 ``check_limits``) as the compiled loop of :mod:`impedance_mil.lab.kernels`.
 """
 
@@ -17,9 +17,9 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from ..errors import LimitTripped
-from ..plant.nonlinear import IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES, valve_command
+from ..plant.nonlinear import IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES
 from .kernels import (M_DP, M_W, M_WFE, M_WLC, M_X, M_Z, M_ZM, SPEC_BANK, SPEC_CSR, TRIP_NAMES,
-                      check_limits, plant_advance, plant_sense)
+                      check_limits, hydraulic_step, plant_advance, plant_sense)
 from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
 from .substeps import resolve_substeps, specimen_state_space
 
@@ -198,11 +198,9 @@ class VirtualTable:
         return Measurements(self.time_s, m[M_X], m[M_DP], m[M_ZM], m[M_WLC], m[M_WFE])
 
     def write_command(self, u: float) -> None:
-        uv = valve_command(self._pa, float(u), self._x_prev, self._dp_prev)
+        self.valve_command, self._sat, self.current = hydraulic_step(
+            self._pa, float(u), self._x_prev, self._dp_prev, self._sat)
         self._x_prev, self._dp_prev = self._meas[M_X], self._meas[M_DP]
-        self._sat = self._sat + 1 if abs(uv) >= self.table.valve_command_limit else 0
-        self.valve_command = uv
-        self.current = self.table.Kv * uv
 
     def advance(self) -> None:
         plant_advance(self._pa, self.y, *self._spec, self.current,
