@@ -25,6 +25,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from ..design import (ConstraintResult, DesignCriteria, TableModel, VirtualModel,  # noqa: E402
                       controlled_table, ideal_controller)
 from ..design.controller import filter_controller  # noqa: E402
+from ..design.forms import environment  # noqa: E402
 
 #: Frequency axis of the Bode plots [Hz].
 BODE_HZ = np.logspace(-1, np.log10(2000.0), 600)
@@ -54,7 +55,7 @@ def plot_design_rows(table: TableModel, vs: Optional[VirtualModel], fcs_hz: Sequ
     title : str
         Figure title.
     """
-    env = VirtualModel.rigid() if vs is None or form == "tracking" else vs
+    env = environment(form, vs)
     ideal = ideal_controller(form, table, env)
     f = BODE_HZ
     rows = len(fcs_hz)
@@ -81,7 +82,7 @@ def plot_design_rows(table: TableModel, vs: Optional[VirtualModel], fcs_hz: Sequ
         ax.set_title(f"controller $H_{{uw}}^{{controller}}$, $f_c$ = {fc:g} Hz", fontsize=9)
         ax.legend(fontsize=7, loc="upper left")
         ax = axes[k, 2]
-        fn = np.logspace(-2, np.log10(0.5 / table.loop_time_s if table.loop_time_s > 0 else 1000.0), 3000)
+        fn = np.logspace(-2, np.log10(table.nyquist_hz), 3000)
         v = ct.velocity_response(fn)
         ax.plot(v.real, v.imag, "b-", lw=1)
         ax.plot(v.real, -v.imag, "b:", lw=0.6)
