@@ -22,6 +22,7 @@ from ..lab.experiments import ControlledRun, run_frf, run_mil, run_tracking
 from ..lab.results import save_run
 from ..signals.multisine import report_multisine
 from ..specimens.vessel import FluidVessel
+from ..units import INTERNAL_UNITS
 from .modelkinds import CONTROLLER_PARAMS, TABLE_PARAMS, VS_PARAMS, table_parameters, virtual_system
 from .motions import REPORT_MOTIONS, motion_source, report_motion
 from .params import Param
@@ -63,7 +64,7 @@ MIL_PARAMS: dict[str, Param] = {
     **TRACKING_PARAMS, **VS_PARAMS,
     "feedback": Param("controller.feedback", type="choice", choices=("load_cells", "force_equilibrium"),
                       help="source of w (Appendix C): load_cells or force_equilibrium"),
-    "m_vs": Param("vs.m_vs", unit="force_pound * second**2 / inch", check="positive",
+    "m_vs": Param("vs.m_vs", unit=INTERNAL_UNITS["mass"], check="positive",
                   help="basemat mass m_vs (instead of m_vs_ratio) [lbf*s^2/in]"),
 }
 

@@ -23,7 +23,7 @@ from ..design import design_controller, table_model, virtual_model
 from ..design.io import save_design
 from ..design.forms import FORMS
 from ..plant import DELAYS, LinearTable, TableParameters
-from ..units import TWO_PI
+from ..units import INTERNAL_UNITS, TWO_PI
 from ..virtual import presets
 from .params import Param
 
@@ -33,7 +33,7 @@ TABLE_PARAMS: dict[str, Param] = {
     "K_p": Param("table.Kp", unit="volt / psi", check="nonnegative", help="Delta-P gain K_p [V/psi]"),
     "loop_time": Param("table.loop_time", unit="second", check="nonnegative",
                        help="controller loop time tau_s [s]"),
-    "m_st": Param("table.mass", unit="force_pound * second**2 / inch", check="positive",
+    "m_st": Param("table.mass", unit=INTERNAL_UNITS["mass"], check="positive",
                   help="moving table mass m_st [lbf*s^2/in]"),
 }
 

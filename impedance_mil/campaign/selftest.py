@@ -21,12 +21,12 @@ import h5py
 import numpy as np
 
 from ..errors import ConfigError
-from ..units import TWO_PI
+from ..units import INTERNAL_UNITS, TWO_PI
 from .params import Param
 
 #: Parameters of the ``selftest`` kind.
 SELFTEST_PARAMS: dict[str, Param] = {
-    "mass": Param("oscillator.mass", unit="force_pound * second**2 / inch", check="positive",
+    "mass": Param("oscillator.mass", unit=INTERNAL_UNITS["mass"], check="positive",
                   help="total mass on the isolator, m_vs + m_ps [lbf*s^2/in]"),
     "stiffness": Param("oscillator.stiffness", unit="force_pound / inch", check="positive",
                        help="horizontal stiffness k_s [lbf/in]"),

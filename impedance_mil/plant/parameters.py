@@ -18,7 +18,7 @@ from typing import Any, Mapping
 
 from ..config import Field, parse_fields, read_toml
 from ..errors import ConfigError
-from ..units import TWO_PI
+from ..units import INTERNAL_UNITS, TWO_PI
 
 #: The report's table (Table 4.1 with the erratum d = 1e5), shipped with the package.
 REPORT_TABLE_FILE = "report_table_4_1.toml"
@@ -31,7 +31,7 @@ FIELDS: dict[str, Field] = {
     "loop_time": Field("second", "nonnegative", help="controller loop time tau_s [s] (0 = analog)"),
     "piston_area": Field("inch**2", "positive", help="piston area A_p [in^2]"),
     "mid_stroke": Field("inch", "positive", help="mid-stroke position x_m [in]"),
-    "mass": Field("force_pound * second**2 / inch", "positive", help="moving table mass m_st"),
+    "mass": Field(INTERNAL_UNITS["mass"], "positive", help="moving table mass m_st"),
     "d": Field("psi / second / milliampere", "positive", help="model constant d (Eq 4-12)"),
     "valve_poles_hz": Field("hertz", "positive", count=2, help="servovalve poles [Hz]"),
     "zeta_oil": Field("dimensionless", "fraction", help="oil-column damping ratio"),

@@ -26,13 +26,13 @@ from typing import Any, Mapping, Optional
 
 from ..config import Field, parse_fields, quantity, read_toml
 from ..errors import ConfigError
-from ..units import G0
+from ..units import G0, INTERNAL_UNITS
 from . import presets
 from .base import VirtualSystem
 from .models import FrictionPendulum, LeadRubber, SpringDamper
 from .targets import TARGETS
 
-_MASS = "force_pound * second**2 / inch"
+_MASS = INTERNAL_UNITS["mass"]
 
 #: Internal unit of every key (pint expression) that a VS file, ``--set`` or the listing uses.
 UNITS: dict[str, str] = {
