@@ -16,8 +16,7 @@ import typer
 
 from ..design import design_controller, load_design, table_model, virtual_model
 from ..errors import ConfigError
-from ..implement.export import FORMATS, controller_from_design, render, write_directory
-from ..virtual import presets
+from ..implement.export import FORMATS, controller_from_design, designed_vs, render, write_directory
 from ..virtual.files import resolve
 from .common import console, table_parameters
 
@@ -33,14 +32,6 @@ def _design(design_file, table, vs, fc):
     vm = virtual_model(spec.vs, spec.name) if spec is not None else None
     return design_controller(table_model(table_parameters(table)), vm, form="standardized", fc_hz=fc,
                              emit_warnings=False)
-
-
-def _vs_object(vs, design):
-    """The VS rendered into the MIL step: --vs, else the design's preset name, else none."""
-    if vs is not None:
-        return resolve(vs).vs
-    name = (design.vs or {}).get("name") if isinstance(design.vs, dict) else None
-    return presets.get(name) if name in presets.names() else None
 
 
 def export(
@@ -64,9 +55,15 @@ def export(
     design = _design(design_file, table, vs, fc)
     controller = controller_from_design(design, loop_time_s=loop_time, method=method,
                                         prewarp_hz=prewarp, leak_hz=leak)
-    vs_obj = _vs_object(vs, design) if fmt in ("c", "st") else None
+    spec = resolve(vs) if vs is not None else None
+    chosen = designed_vs(design, spec.vs if spec else None, spec.name if spec else "")
+    vs_obj = chosen.vs if fmt in ("c", "st") else None
     summary = f"{design.form} form, fc {design.fc_hz:g} Hz" + (
-        f", VS {getattr(vs_obj, 'name', '') or vs}" if vs_obj is not None else "")
+        f", VS {chosen.name} ({chosen.vs.kind})" if vs_obj is not None else "")
     files = render(controller, fmt, precision, prefix, vs=vs_obj, design_summary=summary)
     out = write_directory(files, output, force=force)
     console.print(f"wrote {', '.join(sorted(files))} to {out}")
+    if chosen.note:
+        console.print(f"note: {chosen.note}")
+    elif fmt in ("c", "st") and vs_obj is None:
+        console.print("note: the design has no virtual system: the code has no MIL step (--vs adds one)")

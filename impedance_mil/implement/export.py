@@ -13,6 +13,7 @@ import io
 import json
 import math
 import os
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +22,7 @@ import numpy as np
 from .. import __version__ as _pkg_version
 from ..errors import ConfigError
 from ..fileio import atomic_directory
+from ..virtual.files import from_parameters
 from .c import render_c
 from .discretize import DiscreteController, discretize
 from .identifiers import check_c_identifier, check_st_identifier
@@ -61,6 +63,77 @@ def controller_from_design(design, *, loop_time_s: float | None = None, method: 
               "table": dict(design.table), "vs": design.vs}
     return discretize(design.H_uz, design.H_uw, design.loop_time_s, method=method,
                       prewarp_hz=prewarp_hz, fc_hz=design.fc_hz, leak_hz=leak_hz, source=source)
+
+
+#: Relative tolerance when comparing a requested VS with the designed one.
+VS_RTOL = 1e-12
+
+
+@dataclass(frozen=True)
+class ExportVS:
+    """The virtual system rendered into the generated MIL step, and where it came from.
+
+    Attributes
+    ----------
+    vs : VirtualSystem or None
+        The system; ``None`` exports the controller alone (no MIL step).
+    name : str
+        Preset name or file stem of the design (or of ``--vs``).
+    source : str
+        ``"design"`` (rebuilt from the design file's parameters), ``"requested"``
+        (given for a design made without a VS) or ``"none"``.
+    note : str
+        A sentence for the user when the export is not simply the designed VS.
+    """
+
+    vs: Any
+    name: str
+    source: str
+    note: str = ""
+
+
+def designed_vs(design, requested=None, requested_name: str = "") -> ExportVS:
+    """The VS to render for ``design``: exactly the designed one, parameters included.
+
+    Parameters
+    ----------
+    design : ControllerDesign
+        Its ``vs`` entry (``{"kind", "name", "parameters"}``, internal units) is
+        rebuilt parameter by parameter; the preset name is only a label.
+    requested : VirtualSystem, optional
+        A VS asked for explicitly (``imil export --vs``).  With a design that
+        names a VS it must be that VS; with a design made without one (the
+        standardized form does not depend on the VS) it is rendered, with a note
+        that constraints I and III were not checked for it.
+
+    Raises
+    ------
+    ConfigError
+        The design's VS entry is malformed or of an unknown kind, or
+        ``requested`` differs from the designed VS.
+    """
+    entry = design.vs
+    if entry is None:
+        if requested is None:
+            return ExportVS(None, "", "none")
+        return ExportVS(requested, requested_name, "requested",
+                        f"the design was made without a VS: constraints I and III were not checked "
+                        f"for {requested_name or requested.kind}")
+    if not isinstance(entry, dict):
+        raise ConfigError("design vs", "a table with kind and parameters", type(entry).__name__)
+    vs = from_parameters(entry.get("kind"), entry.get("parameters"), where="design vs.")
+    name = str(entry.get("name") or vs.kind)
+    if requested is not None and not _same_vs(vs, requested):
+        raise ConfigError("--vs", f"the designed VS {name} (omit --vs to export it; design again "
+                                  "to export another VS)", requested_name or requested.kind)
+    return ExportVS(vs, name, "design")
+
+
+def _same_vs(a, b) -> bool:
+    if a.kind != b.kind:
+        return False
+    pa, pb = a.parameter_array(), b.parameter_array()
+    return pa.shape == pb.shape and bool(np.allclose(pa, pb, rtol=VS_RTOL, atol=0.0))
 
 
 def _mat(a: np.ndarray, dtype) -> dict:

@@ -20,6 +20,7 @@ targets when it has a target-only key (SD: ``f``, ``zeta``; LR:
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping, Optional
@@ -206,6 +207,50 @@ def with_overrides(spec: VSSpec, overrides: Mapping[str, Any], where: str = "") 
         model = {**spec.model_overrides, **{k: v for k, v in values.items() if k in model_keys}}
         return VSSpec(spec.name, presets.apply_overrides(targets, model), targets, model)
     return VSSpec(spec.name, dataclasses.replace(spec.vs, **values))
+
+
+def from_parameters(kind: Any, parameters: Any, where: str = "") -> VirtualSystem:
+    """Rebuild a VS from its kind and parameters in internal units (as a design file stores them).
+
+    ``parameters`` is :meth:`VirtualSystem.to_dict`: the model parameters and,
+    optionally, ``kind`` and the derived values.  Derived values that disagree with
+    the ones the parameters give (a hand edit of a derived value) are refused, so
+    that what is rebuilt is exactly what the mapping describes.
+
+    Raises
+    ------
+    ConfigError
+        Unknown kind, a missing, non-numeric or unknown parameter, or a derived
+        value that disagrees with the parameters (the key is named).
+    """
+    if not isinstance(kind, str) or kind.strip().upper() not in _MODELS:
+        raise ConfigError(f"{where}kind", "one of " + ", ".join(f"'{k}'" for k in _MODELS), kind)
+    if not isinstance(parameters, Mapping):
+        raise ConfigError(f"{where}parameters", "a table of the VS parameters", parameters)
+    model = _MODELS[kind.strip().upper()]
+    names = [f.name for f in dataclasses.fields(model)]
+    values: dict[str, float] = {}
+    for key in names:
+        value = parameters.get(key)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ConfigError(f"{where}parameters.{key}", "a number in internal units", value)
+        values[key] = float(value)
+    try:
+        vs = model(**values)
+    except ConfigError as exc:
+        raise ConfigError(f"{where}parameters.{exc.key}", exc.expected, exc.got) from None
+    derived = vs.derived()
+    for key, value in parameters.items():
+        if key in values or key == "kind":
+            continue
+        if key not in derived:
+            raise ConfigError(f"{where}parameters.{key}", f"a {vs.kind} parameter: " + ", ".join(names))
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isclose(
+                float(value), derived[key], rel_tol=1e-9, abs_tol=1e-300):
+            raise ConfigError(f"{where}parameters.{key}",
+                              f"{derived[key]!r}, the value its parameters give (edit the parameters, "
+                              "not derived values)", value)
+    return vs
 
 
 def describe(spec: VSSpec) -> list[Property]:

@@ -3,31 +3,12 @@
 from __future__ import annotations
 
 import json
-import sys
-from types import SimpleNamespace
 
 import pytest
 
-from impedance_mil.cli.main import run
 
 from impedance_mil.design import design_controller, save_design, table_model
 from impedance_mil.plant import TableParameters
-
-
-@pytest.fixture
-def imil(capfd, monkeypatch):
-    """Run the ``imil`` entry point in-process (as the console script does)."""
-    def call(*args, cwd):
-        monkeypatch.chdir(cwd)
-        monkeypatch.setattr(sys, "argv", ["imil", *map(str, args)])
-        code = 0
-        try:
-            run()
-        except SystemExit as exc:
-            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
-        out, err = capfd.readouterr()
-        return SimpleNamespace(returncode=code, stdout=out, stderr=err)
-    return call
 
 
 @pytest.fixture(scope="module")
