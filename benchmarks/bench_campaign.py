@@ -49,8 +49,10 @@ def main() -> None:
     parser.add_argument("--reduced", action="store_true", help="the reduced (CI) campaign")
     args = parser.parse_args()
     spec, what = table_9_4_campaign(args.reduced)
-    print(f"campaign: {len(spec.runs)} runs of kind {what}; cores available: {default_workers()}; "
-          f"kinds registered: {', '.join(KINDS)}")
+    print(
+        f"campaign: {len(spec.runs)} runs of kind {what}; cores available: {default_workers()}; "
+        f"kinds registered: {', '.join(KINDS)}"
+    )
     # Warm-up, untimed: one run inline fills numba's on-disk cache, so neither timing pays compilation.
     with tempfile.TemporaryDirectory(prefix="imil-bench-") as folder:
         run_campaign(dataclasses.replace(spec, runs=spec.runs[:1]), folder, InlineExecutor())
@@ -58,10 +60,14 @@ def main() -> None:
     for workers in (1, 2):
         elapsed, done = timed(spec, workers)
         times[workers] = elapsed
-        print(f"{workers} worker{'s' if workers > 1 else ' '}: {elapsed:7.2f} s for {done} finished runs "
-              f"({elapsed / max(len(spec.runs), 1):.2f} s per run)")
-    print(f"speed-up 1 -> 2 workers: {times[1] / times[2]:.2f}x "
-          f"(load average now {os.getloadavg()[0]:.2f}: other processes share the cores)")
+        print(
+            f"{workers} worker{'s' if workers > 1 else ' '}: {elapsed:7.2f} s for {done} finished runs "
+            f"({elapsed / max(len(spec.runs), 1):.2f} s per run)"
+        )
+    print(
+        f"speed-up 1 -> 2 workers: {times[1] / times[2]:.2f}x "
+        f"(load average now {os.getloadavg()[0]:.2f}: other processes share the cores)"
+    )
     verdict = "meets" if times[2] < GOAL_S else "misses"
     print(f"2 workers: {times[2]:.1f} s, {verdict} the goal of < {GOAL_S:.0f} s")
 

@@ -50,8 +50,9 @@ def _setup():
     p = TableParameters.report_default()
     gm = builtin_motion("elcentro").time_scaled(2).scaled_to_pga(0.6).resampled(p.loop_time)
     vs = presets.get("SD2")
-    design = design_controller(table_model(p), virtual_model(vs), form="standardized",
-                               fc_hz=80.0, emit_warnings=False)
+    design = design_controller(
+        table_model(p), virtual_model(vs), form="standardized", fc_hz=80.0, emit_warnings=False
+    )
     controller = discretize(design.H_uz, design.H_uw, p.loop_time, fc_hz=80.0)
     runtime = MILRuntime(controller, vs=vs, precision="single")
     return p, gm, runtime, NonlinearTable.from_linear(p), FluidVessel.report_default()
@@ -68,52 +69,76 @@ def _best(fn, repeats: int = 3) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--reference-seconds", type=float, default=1.0,
-                        help="simulated seconds run by the solve_ivp reference")
+    parser.add_argument(
+        "--reference-seconds",
+        type=float,
+        default=1.0,
+        help="simulated seconds run by the solve_ivp reference",
+    )
     args = parser.parse_args()
     where = _pin_one_core()
     p, gm, runtime, table, vessel = _setup()
     t0 = time.perf_counter()
     simulate(table, a_g=gm.accel[:100], runtime=runtime, specimen=vessel)
     compile_s = time.perf_counter() - t0
-    print(f"bench_lab ({where}; load average {os.getloadavg()[0]:.2f}; "
-          f"numba compile/cache load {compile_s:.1f} s)")
-    print(f"  case: El Centro x2 time scale, {gm.pga_g:.2f} g, SD2, vessel 36 in, "
-          f"{gm.duration:.2f} s at {p.loop_time * 1e6:.0f} us")
+    print(
+        f"bench_lab ({where}; load average {os.getloadavg()[0]:.2f}; "
+        f"numba compile/cache load {compile_s:.1f} s)"
+    )
+    print(
+        f"  case: El Centro x2 time scale, {gm.pga_g:.2f} g, SD2, vessel 36 in, "
+        f"{gm.duration:.2f} s at {p.loop_time * 1e6:.0f} us"
+    )
     runs, walls = {}, {}
     for substeps in ("auto", 2, 1):
-        full = _best(lambda: runs.__setitem__(substeps, simulate(
-            table, a_g=gm.accel, runtime=runtime, specimen=vessel, substeps=substeps)))
-        short = _best(lambda: simulate(table, a_g=gm.accel[:100], runtime=runtime,
-                                       specimen=vessel, substeps=substeps))
+        full = _best(
+            lambda s=substeps: runs.__setitem__(
+                s, simulate(table, a_g=gm.accel, runtime=runtime, specimen=vessel, substeps=s)
+            )
+        )
+        short = _best(
+            lambda s=substeps: simulate(
+                table, a_g=gm.accel[:100], runtime=runtime, specimen=vessel, substeps=s
+            )
+        )
         run = runs[substeps]
         walls[substeps] = full
         simulated = run.n_samples * p.loop_time
         per_loop = (full - short) / (run.n_samples - 100)
-        label = (f"auto = {run.config['substeps']} substep(s)" if substeps == "auto"
-                 else f"{substeps} RK4 substep(s)")
-        print(f"  compiled, {label}: {full * 1e3:7.1f} ms wall -> "
-              f"{simulated / full:6.0f} x real time (whole call); loop alone "
-              f"{per_loop * 1e6:.2f} us per loop -> {p.loop_time / per_loop:6.0f} x; "
-              f"trip: {run.trip}")
+        label = (
+            f"auto = {run.config['substeps']} substep(s)"
+            if substeps == "auto"
+            else f"{substeps} RK4 substep(s)"
+        )
+        print(
+            f"  compiled, {label}: {full * 1e3:7.1f} ms wall -> "
+            f"{simulated / full:6.0f} x real time (whole call); loop alone "
+            f"{per_loop * 1e6:.2f} us per loop -> {p.loop_time / per_loop:6.0f} x; "
+            f"trip: {run.trip}"
+        )
     run = runs["auto"]
     n_ref = int(round(args.reference_seconds / p.loop_time))
     t0 = time.perf_counter()
-    ref = simulate_interface(ScipyTable(table, specimen=vessel), a_g=gm.accel[:n_ref],
-                             runtime=runtime)
+    ref = simulate_interface(ScipyTable(table, specimen=vessel), a_g=gm.accel[:n_ref], runtime=runtime)
     ref_wall = time.perf_counter() - t0
     slow = ref.n_samples * p.loop_time / ref_wall
     fast = run.n_samples * p.loop_time / walls["auto"]
     span = slice(0, ref.n_samples)
     z_err = np.max(np.abs(ref.z - run.z[span])) / np.max(np.abs(run.z[span]))
-    print(f"  reference (solve_ivp RK45 between ticks, controller in Python): "
-          f"{ref_wall * 1e3:.0f} ms wall for {ref.n_samples * p.loop_time:.2f} s -> "
-          f"{slow:.2f} x real time")
+    print(
+        f"  reference (solve_ivp RK45 between ticks, controller in Python): "
+        f"{ref_wall * 1e3:.0f} ms wall for {ref.n_samples * p.loop_time:.2f} s -> "
+        f"{slow:.2f} x real time"
+    )
     auto = f"auto, {run.config['substeps']} substeps"
-    print(f"  speed-up compiled ({auto}) / reference: {fast / slow:.0f}x  "
-          f"(max |z| difference over the reference span: {z_err:.1e} of peak)")
-    print(f"  goal >= {GOAL:.0f}x real time (default configuration, {auto}, whole call): "
-          f"{'met' if fast >= GOAL else 'NOT met'}")
+    print(
+        f"  speed-up compiled ({auto}) / reference: {fast / slow:.0f}x  "
+        f"(max |z| difference over the reference span: {z_err:.1e} of peak)"
+    )
+    print(
+        f"  goal >= {GOAL:.0f}x real time (default configuration, {auto}, whole call): "
+        f"{'met' if fast >= GOAL else 'NOT met'}"
+    )
 
 
 if __name__ == "__main__":

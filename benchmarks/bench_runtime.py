@@ -30,8 +30,10 @@ def c_ns_per_step(controller, vs, precision, workdir: Path) -> tuple[float, floa
     prefix = f"b_{precision[0]}"
     render_c(controller, precision, prefix, vs=vs).write(workdir)
     lib = workdir / f"lib{prefix}.so"
-    subprocess.run(["gcc", "-std=c99", "-O2", "-fPIC", "-shared", "-o", str(lib),
-                    str(workdir / f"{prefix}.c"), "-lm"], check=True)
+    subprocess.run(
+        ["gcc", "-std=c99", "-O2", "-fPIC", "-shared", "-o", str(lib), str(workdir / f"{prefix}.c"), "-lm"],
+        check=True,
+    )
     so = ctypes.CDLL(str(lib))
     dt = np.float32 if precision == "single" else np.float64
     ct = ctypes.c_float if precision == "single" else ctypes.c_double
@@ -58,14 +60,15 @@ def python_us_per_step(controller, vs, precision) -> float:
     rt.mil_step(0.0, 0.0)  # compile
     n = 20_000
     t0 = time.perf_counter()
-    for k in range(n):
+    for _ in range(n):
         rt.mil_step(1.0, 2.0)
     return (time.perf_counter() - t0) / n * 1e6
 
 
 def main() -> None:
-    design = design_controller(table_model(TableParameters.report_default()), form="standardized",
-                               fc_hz=80.0, emit_warnings=False)
+    design = design_controller(
+        table_model(TableParameters.report_default()), form="standardized", fc_hz=80.0, emit_warnings=False
+    )
     controller = controller_from_design(design)
     vs = presets.get("SD2")
     loop_ns = controller.loop_time_s * 1e9
@@ -73,10 +76,12 @@ def main() -> None:
         for precision in ("single", "double"):
             ctl_ns, mil_ns = c_ns_per_step(controller, vs, precision, Path(d))
             py_us = python_us_per_step(controller, vs, precision)
-            print(f"{precision:6s}  C step {ctl_ns:6.1f} ns ({ctl_ns / loop_ns:.3%} of the "
-                  f"{loop_ns / 1e3:.0f} us loop)   C MIL step (SD2 + RK3) {mil_ns:6.1f} ns "
-                  f"({mil_ns / loop_ns:.3%})   Python MILRuntime.mil_step {py_us:6.2f} us "
-                  f"({py_us * 1e3 / mil_ns:.0f}x the C MIL step)")
+            print(
+                f"{precision:6s}  C step {ctl_ns:6.1f} ns ({ctl_ns / loop_ns:.3%} of the "
+                f"{loop_ns / 1e3:.0f} us loop)   C MIL step (SD2 + RK3) {mil_ns:6.1f} ns "
+                f"({mil_ns / loop_ns:.3%})   Python MILRuntime.mil_step {py_us:6.2f} us "
+                f"({py_us * 1e3 / mil_ns:.0f}x the C MIL step)"
+            )
 
 
 if __name__ == "__main__":

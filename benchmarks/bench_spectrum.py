@@ -55,11 +55,15 @@ def main() -> None:
     ours_subset = response_spectrum(accel, dt, subset, damping=0.05).sd
     rel = np.max(np.abs(ours_subset - np.array(ref_sd)) / np.array(ref_sd))
 
-    print(f"record: {accel.size} samples at {1 / dt:.0f} Hz; {DEFAULT_PERIODS.size} periods "
-          f"{DEFAULT_PERIODS[0]:.3g}-{DEFAULT_PERIODS[-1]:.3g} s; PSA(0.01 s) = {spec.psa_g[0]:.4f} g")
+    print(
+        f"record: {accel.size} samples at {1 / dt:.0f} Hz; {DEFAULT_PERIODS.size} periods "
+        f"{DEFAULT_PERIODS[0]:.3g}-{DEFAULT_PERIODS[-1]:.3g} s; PSA(0.01 s) = {spec.psa_g[0]:.4f} g"
+    )
     print(f"response_spectrum (Nigam-Jennings, compiled): {ours * 1e3:.1f} ms (best of 3)")
-    print(f"reference scipy.signal.lsim per period: {per_period * 1e3:.1f} ms/period measured on "
-          f"{subset.size} periods -> {reference:.2f} s for {DEFAULT_PERIODS.size}")
+    print(
+        f"reference scipy.signal.lsim per period: {per_period * 1e3:.1f} ms/period measured on "
+        f"{subset.size} periods -> {reference:.2f} s for {DEFAULT_PERIODS.size}"
+    )
     print(f"speed-up ratio: {reference / ours:.0f}x; max relative SD difference on the subset: {rel:.2e}")
     print(f"goal (< 1 s): {'met' if ours < 1.0 else 'NOT met'}")
 

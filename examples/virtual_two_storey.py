@@ -37,13 +37,17 @@ def main(figure: str | None = None) -> None:
     a_g = np.repeat(motion.accel, substeps)  # held over each record sample, like the lab loop
     m_article = TEST_ARTICLE_WEIGHT / G0
 
-    results = {"ISO2 roof": rigid_article_response(frame, a_g, dt, m_article),
-               "LR1 basemat": rigid_article_response(presets.get("LR1"), a_g, dt, m_article)}
+    results = {
+        "ISO2 roof": rigid_article_response(frame, a_g, dt, m_article),
+        "LR1 basemat": rigid_article_response(presets.get("LR1"), a_g, dt, m_article),
+    }
     print(f"\n{motion.name}: PGA {motion.pga_g:.3f} g, dt {dt * 1e3:.3g} ms")
     for name, r in results.items():
-        print(f"  {name:12s} peak z_vs {in_s2_to_g(np.abs(r.z_vs).max()):.3f} g, "
-              f"peak displacement under the article {np.abs(r.displacement).max():.2f} in, "
-              f"peak isolator force {np.abs(r.force).max():.0f} lbf")
+        print(
+            f"  {name:12s} peak z_vs {in_s2_to_g(np.abs(r.z_vs).max()):.3f} g, "
+            f"peak displacement under the article {np.abs(r.displacement).max():.2f} in, "
+            f"peak isolator force {np.abs(r.force).max():.0f} lbf"
+        )
     if figure:
         fig = plot_loops(list(results.values()), list(results), title=motion.name)
         print(f"wrote {save_figure(fig, figure)}")

@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import math
 import tomllib
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 import pint
 
@@ -118,8 +119,9 @@ def _check_range(key: str, number: float, check: str, raw: Any) -> None:
         raise ConfigError(key, "a value in [0, 1)", raw)
 
 
-def parse_fields(fields: Mapping[str, Field], mapping: Mapping[str, Any],
-                 *, where: str = "") -> dict[str, Any]:
+def parse_fields(
+    fields: Mapping[str, Field], mapping: Mapping[str, Any], *, where: str = ""
+) -> dict[str, Any]:
     """Validate and convert a mapping of configuration values.
 
     Parameters

@@ -15,8 +15,8 @@ inside the polynomials.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Iterable
 
 import control
 import numpy as np
@@ -45,7 +45,7 @@ def _trim(coeffs: np.ndarray) -> np.ndarray:
     nz = np.nonzero(c)[0]
     if nz.size == 0:
         return np.zeros(1)
-    return c[nz[0]:].copy()
+    return c[nz[0] :].copy()
 
 
 def _padd(a: np.ndarray, b: np.ndarray, rtol: float = SUM_RTOL) -> np.ndarray:
@@ -70,7 +70,7 @@ def _trim_scaled(c: np.ndarray, omega: float, rtol: float) -> np.ndarray:
     terms = np.abs(c) * omega ** np.arange(n, -1, -1, dtype=float)
     big = np.max(terms)
     keep = np.nonzero(terms > rtol * big)[0]
-    return c[keep[0]:].copy() if keep.size else np.zeros(1)
+    return c[keep[0] :].copy() if keep.size else np.zeros(1)
 
 
 def _real_poly(roots: Iterable[complex]) -> np.ndarray:
@@ -114,17 +114,17 @@ class TransferFunction:
 
     # ------------------------------------------------------------------ build
     @classmethod
-    def constant(cls, k: float) -> "TransferFunction":
+    def constant(cls, k: float) -> TransferFunction:
         """The static gain ``k``."""
         return cls([float(k)], [1.0])
 
     @classmethod
-    def s(cls) -> "TransferFunction":
+    def s(cls) -> TransferFunction:
         """The Laplace variable ``s``."""
         return cls([1.0, 0.0], [1.0])
 
     @classmethod
-    def from_ss(cls, A, B, C, D=0.0) -> "TransferFunction":
+    def from_ss(cls, A, B, C, D=0.0) -> TransferFunction:
         """Transfer function of a SISO state-space model ``(A, B, C, D)``."""
         A = np.atleast_2d(np.asarray(A, dtype=float))
         B = np.asarray(B, dtype=float).reshape(-1, 1)
@@ -137,12 +137,12 @@ class TransferFunction:
         return cls(_trim_scaled(num[0], omega if omega > 0 else 1.0, 1e-10), den)
 
     @classmethod
-    def from_zpk(cls, zeros, poles, gain: float) -> "TransferFunction":
+    def from_zpk(cls, zeros, poles, gain: float) -> TransferFunction:
         """Build from zeros, poles [rad/s] and the gain of the monic factors."""
         return cls(gain * _real_poly(zeros), _real_poly(poles))
 
     @classmethod
-    def from_control(cls, sys) -> "TransferFunction":
+    def from_control(cls, sys) -> TransferFunction:
         """Convert a SISO ``control.TransferFunction`` or ``StateSpace``."""
         tf = control.tf(sys)
         return cls(np.asarray(tf.num[0][0], float), np.asarray(tf.den[0][0], float))
@@ -202,7 +202,7 @@ class TransferFunction:
         return self(1j * TWO_PI * np.asarray(f_hz, dtype=float))
 
     # ---------------------------------------------------------------- algebra
-    def _coerce(self, other) -> "TransferFunction":
+    def _coerce(self, other) -> TransferFunction:
         if isinstance(other, TransferFunction):
             return other
         if isinstance(other, (int, float, np.number)):
@@ -247,13 +247,13 @@ class TransferFunction:
     def __rtruediv__(self, other):
         return self.inv() * other
 
-    def inv(self) -> "TransferFunction":
+    def inv(self) -> TransferFunction:
         """The reciprocal ``den/num`` (may be improper)."""
         if self.is_zero:
             raise ZeroDivisionError("inverse of a zero transfer function")
         return TransferFunction(self.den, self.num)
 
-    def feedback(self, other=1.0, sign: int = -1) -> "TransferFunction":
+    def feedback(self, other=1.0, sign: int = -1) -> TransferFunction:
         """Closed loop ``self / (1 - sign*self*other)`` (negative feedback by default)."""
         o = self._coerce(other)
         num = np.polymul(self.num, o.den)
@@ -261,7 +261,7 @@ class TransferFunction:
         return TransferFunction(num, den)
 
     # ----------------------------------------------------------- cancellation
-    def minreal(self, rtol: float = CANCEL_RTOL) -> "TransferFunction":
+    def minreal(self, rtol: float = CANCEL_RTOL) -> TransferFunction:
         """Cancel common poles and zeros with a relative tolerance.
 
         A zero ``z`` and a pole ``p`` cancel when
@@ -292,7 +292,7 @@ class TransferFunction:
                 poles.pop(match)
         return TransferFunction(gain * _real_poly(kept_zeros), _real_poly(poles))
 
-    def mul_cancel(self, other, rtol: float = CANCEL_RTOL) -> "TransferFunction":
+    def mul_cancel(self, other, rtol: float = CANCEL_RTOL) -> TransferFunction:
         """Product ``self*other`` with pole-zero cancellation done factor by factor.
 
         The cross ratios ``num_a/den_b`` and ``num_b/den_a`` are reduced
@@ -313,7 +313,7 @@ class TransferFunction:
         right = TransferFunction(o.num, self.den).minreal(rtol)
         return (left * right).minreal(rtol)
 
-    def div_cancel(self, other, rtol: float = CANCEL_RTOL) -> "TransferFunction":
+    def div_cancel(self, other, rtol: float = CANCEL_RTOL) -> TransferFunction:
         """Quotient ``self/other`` with factor-wise cancellation (see :meth:`mul_cancel`)."""
         o = self._coerce(other)
         if o is NotImplemented:
@@ -321,12 +321,14 @@ class TransferFunction:
         return self.mul_cancel(o.inv(), rtol)
 
     # ------------------------------------------------------------ comparisons
-    def isclose(self, other: "TransferFunction", rtol: float = 1e-9) -> bool:
+    def isclose(self, other: TransferFunction, rtol: float = 1e-9) -> bool:
         """Coefficient-wise comparison after normalisation (same degrees required)."""
         if self.num.size != other.num.size or self.den.size != other.den.size:
             return False
-        return bool(np.allclose(self.num, other.num, rtol=rtol, atol=0)
-                    and np.allclose(self.den, other.den, rtol=rtol, atol=0))
+        return bool(
+            np.allclose(self.num, other.num, rtol=rtol, atol=0)
+            and np.allclose(self.den, other.den, rtol=rtol, atol=0)
+        )
 
     # ------------------------------------------------------------- conversion
     def to_control(self):
@@ -341,7 +343,7 @@ class TransferFunction:
         return A, B, C, D
 
     @classmethod
-    def from_dict(cls, data) -> "TransferFunction":
+    def from_dict(cls, data) -> TransferFunction:
         """Inverse of :meth:`to_dict`.
 
         Raises
@@ -385,8 +387,7 @@ def _backward_error(coeffs: np.ndarray, r: complex) -> float:
     return float(abs(np.polyval(coeffs, r)) / scale) if scale > 0 else 0.0
 
 
-def _nearest_cancelling_pole(z: complex, poles: list, num: np.ndarray, den: np.ndarray,
-                             rtol: float):
+def _nearest_cancelling_pole(z: complex, poles: list, num: np.ndarray, den: np.ndarray, rtol: float):
     """Index of the pole that cancels the zero ``z``, or None.
 
     A pair cancels when ``|z - p| <= rtol*max(|z|, |p|)``, or, for clustered
@@ -400,7 +401,9 @@ def _nearest_cancelling_pole(z: complex, poles: list, num: np.ndarray, den: np.n
         size = max(abs(z), abs(p))
         ok = dist <= rtol * size or (
             dist <= np.sqrt(rtol) * size
-            and _backward_error(num, p) <= rtol and _backward_error(den, z) <= rtol)
+            and _backward_error(num, p) <= rtol
+            and _backward_error(den, z) <= rtol
+        )
         if ok and dist < best:
             match, best = i, dist
     return match
@@ -416,10 +419,12 @@ def pole_table(poles: np.ndarray) -> list[dict]:
     rows = []
     for p in sorted(np.asarray(poles, dtype=complex), key=lambda q: (abs(q), q.imag)):
         w = abs(p)
-        rows.append({
-            "frequency_hz": float(w / TWO_PI),
-            "damping": float(-p.real / w) if w > 0 else float("nan"),
-            "real": float(p.real),
-            "imag": float(p.imag),
-        })
+        rows.append(
+            {
+                "frequency_hz": float(w / TWO_PI),
+                "damping": float(-p.real / w) if w > 0 else float("nan"),
+                "real": float(p.real),
+                "imag": float(p.imag),
+            }
+        )
     return rows

@@ -59,9 +59,7 @@ INTERNAL_UNITS: dict[str, str] = {
 
 #: Extra pint definitions loaded by :mod:`impedance_mil.config`:
 #: ``g0`` is standard gravity (pint's ``g`` is the gram).
-PINT_DEFINITIONS: tuple[str, ...] = (
-    "g0 = 9.80665 * meter / second ** 2",
-)
+PINT_DEFINITIONS: tuple[str, ...] = ("g0 = 9.80665 * meter / second ** 2",)
 
 
 def weight_to_mass(weight_lbf: float) -> float:

@@ -29,15 +29,18 @@ def test_units_convert_to_internal():
     assert quantity("Kp", "0.001 V/psi", "volt / psi") == pytest.approx(0.001)
 
 
-@pytest.mark.parametrize("mapping, key", [
-    ({"mass": -1, "piston_area": 2.1, "Kp": 0}, "mass"),
-    ({"mass": "1 in", "piston_area": 2.1, "Kp": 0}, "mass"),
-    ({"mass": math.nan, "piston_area": 2.1, "Kp": 0}, "mass"),
-    ({"mass": 4, "piston_area": 2.1}, "Kp"),
-    ({"mass": 4, "piston_area": 2.1, "Kp": 0, "colour": 1}, "colour"),
-    ({"mass": 4, "piston_area": 2.1, "Kp": 0, "valve_poles_hz": [70]}, "valve_poles_hz"),
-    ({"mass": "four", "piston_area": 2.1, "Kp": 0}, "mass"),
-])
+@pytest.mark.parametrize(
+    "mapping, key",
+    [
+        ({"mass": -1, "piston_area": 2.1, "Kp": 0}, "mass"),
+        ({"mass": "1 in", "piston_area": 2.1, "Kp": 0}, "mass"),
+        ({"mass": math.nan, "piston_area": 2.1, "Kp": 0}, "mass"),
+        ({"mass": 4, "piston_area": 2.1}, "Kp"),
+        ({"mass": 4, "piston_area": 2.1, "Kp": 0, "colour": 1}, "colour"),
+        ({"mass": 4, "piston_area": 2.1, "Kp": 0, "valve_poles_hz": [70]}, "valve_poles_hz"),
+        ({"mass": "four", "piston_area": 2.1, "Kp": 0}, "mass"),
+    ],
+)
 def test_bad_values_name_the_key(mapping, key):
     with pytest.raises(ConfigError) as info:
         parse_fields(FIELDS, mapping)

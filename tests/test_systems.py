@@ -55,7 +55,10 @@ def test_algebra_matches_frequency_response_pointwise():
         (H1 - H2, H1.frequency_response(f) - H2.frequency_response(f)),
         (H1 * H2, H1.frequency_response(f) * H2.frequency_response(f)),
         (H1 / H2, H1.frequency_response(f) / H2.frequency_response(f)),
-        (H1.feedback(H2), H1.frequency_response(f) / (1 + H1.frequency_response(f) * H2.frequency_response(f))),
+        (
+            H1.feedback(H2),
+            H1.frequency_response(f) / (1 + H1.frequency_response(f) * H2.frequency_response(f)),
+        ),
         (2.0 * H1 + 1.0, 2.0 * H1.frequency_response(f) + 1.0),
     ]:
         np.testing.assert_allclose(expr.frequency_response(f), ref, rtol=1e-10)
@@ -90,7 +93,7 @@ def test_wide_coefficient_range_is_not_trimmed():
 def test_sum_cancels_to_exact_zero_relative_to_operands():
     a = TransferFunction([1.0 / 3.0, 2.0], [1.0, 1.0])
     b = TransferFunction([1.0 / 3.0 * (1 + 1e-15), 1.0], [1.0, 1.0])
-    d = (a - b)
+    d = a - b
     # (s+1)/(s+1)^2 before cancellation: the s^2 term of the numerator (1e-16) is removed exactly.
     assert d.num.size == 2 and d.relative_degree == 1
 
@@ -110,8 +113,12 @@ def test_mul_cancel_removes_shared_denominator_exactly():
 def test_dict_round_trip_and_bad_dicts():
     H = TransferFunction([1e-12, 3.0], [1.0, 2.0, 5.0])
     assert TransferFunction.from_dict(H.to_dict()).isclose(H, rtol=0)
-    for bad in ({"num": [1]}, {"num": "x", "den": [1]}, {"num": [[1, 2]], "den": [1]},
-                {"num": [float("nan")], "den": [1]}):
+    for bad in (
+        {"num": [1]},
+        {"num": "x", "den": [1]},
+        {"num": [[1, 2]], "den": [1]},
+        {"num": [float("nan")], "den": [1]},
+    ):
         with pytest.raises(ValueError):
             TransferFunction.from_dict(bad)
 

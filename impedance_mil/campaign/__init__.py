@@ -7,19 +7,38 @@ pending runs resumably and writes a summary table.  See ``docs/campaign.md``.
 """
 
 from .engine import CampaignResult, ProgressEvent, execute_run, run_campaign
-from .executors import (DaskExecutor, InlineExecutor, LocalExecutor, RunExecutor,
-                        SchedulerError, make_executor)
+from .executors import DaskExecutor, InlineExecutor, LocalExecutor, RunExecutor, SchedulerError, make_executor
 from .kinds import KINDS, Kind, get_kind
 from .params import Param
-from .spec import (DEFAULT_MAX_RUNS, CampaignSpec, RunSpec, builtin_campaigns, load_campaign,
-                   resolve_campaign)
+from .spec import DEFAULT_MAX_RUNS, CampaignSpec, RunSpec, builtin_campaigns, load_campaign, resolve_campaign
 from .store import CampaignStore, RunRecord, run_id_for
 from .summary import SummaryPaths, SummaryTable, load_summary
 
 __all__ = [
-    "CampaignResult", "CampaignSpec", "CampaignStore", "DEFAULT_MAX_RUNS", "DaskExecutor",
-    "InlineExecutor", "KINDS", "Kind", "LocalExecutor", "Param", "ProgressEvent", "RunExecutor",
-    "RunRecord", "RunSpec", "SchedulerError", "SummaryPaths", "SummaryTable", "builtin_campaigns",
-    "execute_run", "get_kind", "load_campaign", "make_executor", "resolve_campaign",
-    "run_campaign", "run_id_for", "load_summary",
+    "CampaignResult",
+    "CampaignSpec",
+    "CampaignStore",
+    "DEFAULT_MAX_RUNS",
+    "DaskExecutor",
+    "InlineExecutor",
+    "KINDS",
+    "Kind",
+    "LocalExecutor",
+    "Param",
+    "ProgressEvent",
+    "RunExecutor",
+    "RunRecord",
+    "RunSpec",
+    "SchedulerError",
+    "SummaryPaths",
+    "SummaryTable",
+    "builtin_campaigns",
+    "execute_run",
+    "get_kind",
+    "load_campaign",
+    "make_executor",
+    "resolve_campaign",
+    "run_campaign",
+    "run_id_for",
+    "load_summary",
 ]

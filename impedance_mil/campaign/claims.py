@@ -15,8 +15,9 @@ visual judgements into numbers are named constants below.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any
 
 from .runmetrics import AGREEMENT_TOLERANCE
 from .summary import SummaryTable
@@ -76,7 +77,7 @@ class ClaimOutcome:
         Logarithmic x axis.
     """
 
-    claim: "Claim"
+    claim: Claim
     verdict: str
     measured: str
     curves: tuple[Curve, ...] = ()
@@ -140,10 +141,18 @@ def _kp_damping(rows: SummaryTable) -> tuple:
     if zero is None or best is None:
         return NOT_RUN, "the K_p = 0 and K_p = 0.001 V/psi runs are missing", (), "", "", False
     ok = best > 2.0 * zero
-    text = (f"oil-column damping ratio {zero:.3f} at K_p = 0 and {best:.3f} at K_p = 0.001 V/psi "
-            f"({best / zero:.1f} times)")
-    return (AGREE if ok else DISAGREE), text, (Curve("table model (first-order delay)", x, y),), \
-        "K_p [V/psi]", "least oil-column damping ratio [-]", False
+    text = (
+        f"oil-column damping ratio {zero:.3f} at K_p = 0 and {best:.3f} at K_p = 0.001 V/psi "
+        f"({best / zero:.1f} times)"
+    )
+    return (
+        (AGREE if ok else DISAGREE),
+        text,
+        (Curve("table model (first-order delay)", x, y),),
+        "K_p [V/psi]",
+        "least oil-column damping ratio [-]",
+        False,
+    )
 
 
 def _delay_model(rows: SummaryTable) -> tuple:
@@ -155,13 +164,25 @@ def _delay_model(rows: SummaryTable) -> tuple:
             return NOT_RUN, f"runs at tau_s = {tau * 1e6:g} us are missing", (), "", "", False
         diffs.append((tau * 1e6, abs(fo - ex) / ex))
         text.append(f"{tau * 1e6:g} us: {100 * diffs[-1][1]:.1f} %")
-    ok = diffs[0][1] <= DELAY_MODEL_TOLERANCE and diffs[1][1] <= DELAY_MODEL_TOLERANCE \
+    ok = (
+        diffs[0][1] <= DELAY_MODEL_TOLERANCE
+        and diffs[1][1] <= DELAY_MODEL_TOLERANCE
         and diffs[2][1] > diffs[1][1]
-    curve = Curve("first-order vs exact sampled-data model", tuple(d[0] for d in diffs),
-                  tuple(d[1] for d in diffs))
-    limit = Curve(f"tolerance {DELAY_MODEL_TOLERANCE:g}", (250.0, 1000.0), (DELAY_MODEL_TOLERANCE,) * 2, "target")
-    return (AGREE if ok else DISAGREE), "relative error of the oil-column damping: " + ", ".join(text), \
-        (curve, limit), "loop time tau_s [us]", "relative error of damping [-]", False
+    )
+    curve = Curve(
+        "first-order vs exact sampled-data model", tuple(d[0] for d in diffs), tuple(d[1] for d in diffs)
+    )
+    limit = Curve(
+        f"tolerance {DELAY_MODEL_TOLERANCE:g}", (250.0, 1000.0), (DELAY_MODEL_TOLERANCE,) * 2, "target"
+    )
+    return (
+        (AGREE if ok else DISAGREE),
+        "relative error of the oil-column damping: " + ", ".join(text),
+        (curve, limit),
+        "loop time tau_s [us]",
+        "relative error of damping [-]",
+        False,
+    )
 
 
 def _kp_model_fidelity(rows: SummaryTable) -> tuple:
@@ -170,10 +191,19 @@ def _kp_model_fidelity(rows: SummaryTable) -> tuple:
         return NOT_RUN, "fewer than three K_p values identified", (), "", "", False
     best = x[min(range(len(y)), key=y.__getitem__)]
     ok = 0.0008 <= best <= 0.0012 and y[0] > min(y)
-    text = "rms |log(H_model/H_measured)| 10-50 Hz " + ", ".join(
-        f"{e:.3f} at {k:g}" for k, e in zip(x, y)) + f"; smallest at K_p = {best:g} V/psi"
-    return (AGREE if ok else DISAGREE), text, (Curve("measured FRF vs linear model", x, y),), \
-        "K_p [V/psi]", "rms log error of z/u, 10-50 Hz [-]", False
+    text = (
+        "rms |log(H_model/H_measured)| 10-50 Hz "
+        + ", ".join(f"{e:.3f} at {k:g}" for k, e in zip(x, y))
+        + f"; smallest at K_p = {best:g} V/psi"
+    )
+    return (
+        (AGREE if ok else DISAGREE),
+        text,
+        (Curve("measured FRF vs linear model", x, y),),
+        "K_p [V/psi]",
+        "rms log error of z/u, 10-50 Hz [-]",
+        False,
+    )
 
 
 # ------------------------------------------------------------------ Section 8
@@ -193,10 +223,13 @@ def _tracking_depths(rows: SummaryTable) -> tuple:
         return NOT_RUN, "no tracking runs finished", (), "", "", False
     upto2 = [v for d, v in by_depth.items() if d <= 30.0]
     ok = bool(upto2) and min(upto2) >= 20.0
-    text = "spectra agree (within {:.0%}) up to ".format(AGREEMENT_TOLERANCE) + ", ".join(
-        f"{v:.1f} Hz at {d:g} in" for d, v in by_depth.items())
-    curves = (Curve("toolkit: worst of the motions", tuple(by_depth), tuple(by_depth.values())),
-              Curve("report: 20 Hz up to 30 in (mass ratio 2)", (0.0, 30.0), (20.0, 20.0), "target"))
+    text = f"spectra agree (within {AGREEMENT_TOLERANCE:.0%}) up to " + ", ".join(
+        f"{v:.1f} Hz at {d:g} in" for d, v in by_depth.items()
+    )
+    curves = (
+        Curve("toolkit: worst of the motions", tuple(by_depth), tuple(by_depth.values())),
+        Curve("report: 20 Hz up to 30 in (mass ratio 2)", (0.0, 30.0), (20.0, 20.0), "target"),
+    )
     return (AGREE if ok else DISAGREE), text, curves, "water depth [in]", "agreement up to [Hz]", False
 
 
@@ -218,9 +251,14 @@ def _feedback_sources(rows: SummaryTable) -> tuple:
     text = "mean spectral error 0.25-15 Hz at 42 in: " + ", ".join(f"{k} {v:.3g}" for k, v in err.items())
     names = tuple(err)
     curve = Curve("toolkit (mean of motions)", tuple(range(len(names))), tuple(err[n] for n in names))
-    return (AGREE if ok else DISAGREE), text + " (sources: " + ", ".join(names) + ")", (curve,), \
-        "feedback source (" + ", ".join(f"{i}: {n}" for i, n in enumerate(names)) + ")", \
-        "spectral error [-]", False
+    return (
+        (AGREE if ok else DISAGREE),
+        text + " (sources: " + ", ".join(names) + ")",
+        (curve,),
+        "feedback source (" + ", ".join(f"{i}: {n}" for i, n in enumerate(names)) + ")",
+        "spectral error [-]",
+        False,
+    )
 
 
 def _worse_than(key: str, worse: float, better: float, label: str, **where: Any) -> Callable:
@@ -231,10 +269,18 @@ def _worse_than(key: str, worse: float, better: float, label: str, **where: Any)
     def evaluate(rows: SummaryTable) -> tuple:
         err = _error_by(rows, key, "spectral_error_low", **where)
         if worse not in err or better not in err:
-            return NOT_RUN, f"the runs{scope} at {label} = {worse:g} and {better:g} are missing", (), "", "", False
+            return (
+                NOT_RUN,
+                f"the runs{scope} at {label} = {worse:g} and {better:g} are missing",
+                (),
+                "",
+                "",
+                False,
+            )
         x = tuple(sorted(err))
         text = f"mean spectral error 0.25-15 Hz{scope}: " + ", ".join(
-            f"{err[k]:.3g} at {label.split(' [')[0]} = {k:g}" for k in x)
+            f"{err[k]:.3g} at {label.split(' [')[0]} = {k:g}" for k in x
+        )
         curve = Curve("toolkit (mean of motions)", x, tuple(err[k] for k in x))
         ok = err[worse] >= MEANINGFUL_RATIO * err[better]
         return (AGREE if ok else DISAGREE), text, (curve,), label, "spectral error [-]", False
@@ -251,19 +297,27 @@ def _mil_band(rows: SummaryTable) -> tuple:
     n_good = sum(a >= 15.0 for a in agreements)
     failed = len(rows) - len(ok_rows)
     ok = failed == 0 and n_good >= 0.8 * len(agreements)
-    text = (f"{n_good} of {len(agreements)} cases agree (within {AGREEMENT_TOLERANCE:.0%}) from 0.25 Hz to "
-            f"at least 15 Hz; worst {min(agreements):.1f} Hz; {failed} runs aborted or failed")
+    text = (
+        f"{n_good} of {len(agreements)} cases agree (within {AGREEMENT_TOLERANCE:.0%}) from 0.25 Hz to "
+        f"at least 15 Hz; worst {min(agreements):.1f} Hz; {failed} runs aborted or failed"
+    )
     x = tuple(float(i) for i in range(len(agreements)))
-    curves = (Curve("toolkit, per case", x, tuple(agreements)),
-              Curve("report: 15 Hz", (0.0, max(x[-1], 1.0)), (15.0, 15.0), "target"))
+    curves = (
+        Curve("toolkit, per case", x, tuple(agreements)),
+        Curve("report: 15 Hz", (0.0, max(x[-1], 1.0)), (15.0, 15.0), "target"),
+    )
     return (AGREE if ok else DISAGREE), text, curves, "case (Table 9.4 order)", "agreement up to [Hz]", False
 
 
 def _fc_table_9_5(rows: SummaryTable) -> tuple:
-    expected = {1000.0: (True, False, True), 250.0: (True, True, True), 100.0: (True, True, True),
-                50.0: (False, True, False)}
+    expected = {
+        1000.0: (True, False, True),
+        250.0: (True, True, True),
+        100.0: (True, True, True),
+        50.0: (False, True, False),
+    }
     got, text = {}, []
-    for fc, verdicts in expected.items():
+    for fc in expected:
         row = rows.where(f_c=fc).rows
         if not row:
             return NOT_RUN, f"the design at f_c = {fc:g} Hz is missing", (), "", "", False
@@ -272,10 +326,18 @@ def _fc_table_9_5(rows: SummaryTable) -> tuple:
     ok = got == expected
     x, y = _points(rows, "f_c", "performance_error")
     _, margin = _points(rows, "f_c", "passivity_tolerant_margin_deg")
-    curves = (Curve("constraint I: impedance error", x, y),
-              Curve("constraint III: passivity margin / 10 deg", x, tuple(m / 10.0 for m in margin), "other"))
-    return (AGREE if ok else DISAGREE), "constraints I/II/III (S = satisfied): " + "; ".join(text), \
-        curves, "f_c [Hz]", "error [-], margin [10 deg]", True
+    curves = (
+        Curve("constraint I: impedance error", x, y),
+        Curve("constraint III: passivity margin / 10 deg", x, tuple(m / 10.0 for m in margin), "other"),
+    )
+    return (
+        (AGREE if ok else DISAGREE),
+        "constraints I/II/III (S = satisfied): " + "; ".join(text),
+        curves,
+        "f_c [Hz]",
+        "error [-], margin [10 deg]",
+        True,
+    )
 
 
 def _stability(row: Mapping[str, Any]) -> str | None:
@@ -306,13 +368,19 @@ def _instability_threshold(rows: SummaryTable) -> tuple:
     unknown = sorted(r for r, v in verdicts.items() if v is None)
     threshold = max(unstable) if unstable else None
     ok = threshold is not None and 0.6 <= threshold <= 0.8 and all(r > threshold for r in stable)
-    text = ("SD2, f_c = 80 Hz: unstable at m_vs/m_st = " + (", ".join(f"{r:g}" for r in unstable) or "none")
-            + "; stable at " + (", ".join(f"{r:g}" for r in stable) or "none"))
+    text = (
+        "SD2, f_c = 80 Hz: unstable at m_vs/m_st = "
+        + (", ".join(f"{r:g}" for r in unstable) or "none")
+        + "; stable at "
+        + (", ".join(f"{r:g}" for r in stable) or "none")
+    )
     if unknown:
         text += "; inconclusive (stroke trip) at " + ", ".join(f"{r:g}" for r in unknown)
     x = tuple(sorted(r for r, v in verdicts.items() if v is not None))
-    curves = (Curve("toolkit: 1 = unstable", x, tuple(float(verdicts[r] == "unstable") for r in x)),
-              Curve("report: unstable at 0.7", (0.7, 0.7), (0.0, 1.0), "target"))
+    curves = (
+        Curve("toolkit: 1 = unstable", x, tuple(float(verdicts[r] == "unstable") for r in x)),
+        Curve("report: unstable at 0.7", (0.7, 0.7), (0.0, 1.0), "target"),
+    )
     return (AGREE if ok else DISAGREE), text, curves, "m_vs / m_st [-]", "unstable [0/1]", False
 
 
@@ -325,75 +393,132 @@ def _fc_recovers(rows: SummaryTable) -> tuple:
     ok = state.get(200.0) == "stable" and improved
     text = "high-frequency rms ratio " + ", ".join(f"{v:.3f} at {f:g} Hz" for f, v in zip(x, y))
     text += "; " + ", ".join(f"{f:g} Hz {state.get(f) or 'inconclusive'}" for f in x)
-    return (AGREE if ok else DISAGREE), text, (Curve("toolkit", x, y),), "f_c [Hz]", \
-        "rms above 15 Hz / rms target [-]", False
+    return (
+        (AGREE if ok else DISAGREE),
+        text,
+        (Curve("toolkit", x, y),),
+        "f_c [Hz]",
+        "rms above 15 Hz / rms target [-]",
+        False,
+    )
 
 
 #: The claims of the report checked by the reproduction suite, in report order.
 CLAIMS: tuple[Claim, ...] = (
-    Claim("sec4-dp-damping", "4.4.3, Contribution #3",
-          "Delta-P feedback with a sufficiently large gain adds damping to the oil-column resonance.",
-          "report-sec4", "kp-poles",
-          "least-damped pole pair of the table model: damping at K_p = 0.001 V/psi more than twice that at K_p = 0.",
-          _kp_damping),
-    Claim("sec4-delay-model", "4.5.3.3",
-          "For loop times up to 500 us the first-order approximation of the sampling delay is accurate; "
-          "for 1000 us it becomes unreliable.",
-          "report-sec4", "delay-model",
-          f"oil-column damping of the first-order model within {DELAY_MODEL_TOLERANCE:.0%} of the exact "
-          "sampled-data model at 250 and 500 us, and further off at 1000 us.", _delay_model),
-    Claim("sec4-kp-fidelity", "4.5.4, Figure 4.16",
-          "K_p = 0.001 V/psi gives the most faithful linear model: poor at 0.0002, better at 0.0006, "
-          "best at 0.001, deteriorating at 0.0014 V/psi.",
-          "report-sec4", "kp-frf",
-          "multisine FRF z/u of the virtual table with the 36 in vessel against the linear model "
-          "(Section 4.5.4 method): smallest rms log error over 10-50 Hz for K_p in 0.0008-0.0012 V/psi.",
-          _kp_model_fidelity),
-    Claim("sec8-tracking-20hz", "8.3.1, Contribution #7",
-          "The table tracks the input accurately up to 20 Hz for mass ratios up to 2 (water depth up to "
-          "30 in), with slightly reduced accuracy at 2.5.",
-          "report-sec8", "depths",
-          f"5%-damped spectra of table and input agree within {AGREEMENT_TOLERANCE:.0%} from 0.25 Hz to at "
-          "least 20 Hz for every motion at 0, 18 and 30 in.", _tracking_depths),
-    Claim("sec8-feedback", "8.3.2",
-          "At a mass ratio of 2.5 the compensation u_w is essential: without it tracking is poor.",
-          "report-sec8", "feedback",
-          f"at 42 in, the mean spectral error 0.25-15 Hz without u_w is at least {MEANINGFUL_RATIO:g} times "
-          "that with load-cell feedback.", _feedback_sources),
-    Claim("sec8-kp", "8.3.3",
-          "K_p = 0.0002 V/psi tracks poorly above 5 Hz; a sufficiently large K_p (0.001 V/psi) tracks well.",
-          "report-sec8", "kp",
-          f"mean spectral error 0.25-15 Hz at K_p = 0.0002 at least {MEANINGFUL_RATIO:g} times that at "
-          "0.001 V/psi.",
-          _worse_than("K_p", 0.0002, 0.001, "K_p [V/psi]")),
-    Claim("sec8-fc", "8.3.4",
-          "At a mass ratio of 2.5, f_c = 40 Hz tracks poorly and tracking improves at 80 Hz.",
-          "report-sec8", "fc",
-          f"at 42 in, the mean spectral error 0.25-15 Hz at f_c = 40 Hz at least {MEANINGFUL_RATIO:g} times "
-          "that at 80 Hz.",
-          _worse_than("f_c", 40.0, 80.0, "f_c [Hz]", water_depth=42.0)),
-    Claim("sec9-band", "9.3, Contribution #8",
-          "MIL is accurate from 0.25 to 15 Hz for the 27 cases of Table 9.4, with reduced accuracy above.",
-          "report-sec9", "table-9.4",
-          f"table and VS-target spectra agree within {AGREEMENT_TOLERANCE:.0%} from 0.25 Hz to at least 15 Hz "
-          "in at least 80 % of the cases, and no run aborts.", _mil_band),
-    Claim("sec9-table-9.5", "9.4.3, Table 9.5",
-          "For SD2 (m_vs = 1.25 m_st): f_c = 1000 Hz violates constraint II; 250 and 100 Hz satisfy all; "
-          "50 Hz violates constraints I and III.",
-          "report-sec9", "design-fc",
-          "constraints I, II, III of the designed controller at each f_c equal Table 9.5.", _fc_table_9_5),
-    Claim("sec9-basemat-mass", "9.4.4, Figure 9.34",
-          "For SD2 at f_c = 80 Hz the MIL system becomes unstable when the basemat mass is reduced to "
-          "0.7 m_st (0.8 m_st for LR2, 0.9 m_st for FP2).",
-          "report-sec9", "basemat-mass",
-          "SD2 MIL runs: the largest unstable m_vs/m_st (a trip other than stroke, or rms above 15 Hz larger "
-          "than the target's) lies in 0.6-0.8 and every larger ratio is stable.", _instability_threshold),
-    Claim("sec9-fc-recovery", "9.4.5, Figure 9.35",
-          "At m_vs = 0.7 m_st, raising f_c from 80 Hz to 200 Hz reduces the high-frequency oscillations "
-          "and restores MIL performance.",
-          "report-sec9", "fc-recovery",
-          f"SD2 at 0.7 m_st: the run at 200 Hz is stable and the 80 Hz run is unstable or has at least "
-          f"{MEANINGFUL_RATIO:g} times its high-frequency content.", _fc_recovers),
+    Claim(
+        "sec4-dp-damping",
+        "4.4.3, Contribution #3",
+        "Delta-P feedback with a sufficiently large gain adds damping to the oil-column resonance.",
+        "report-sec4",
+        "kp-poles",
+        "least-damped pole pair of the table model: damping at K_p = 0.001 V/psi more than twice that at K_p = 0.",
+        _kp_damping,
+    ),
+    Claim(
+        "sec4-delay-model",
+        "4.5.3.3",
+        "For loop times up to 500 us the first-order approximation of the sampling delay is accurate; "
+        "for 1000 us it becomes unreliable.",
+        "report-sec4",
+        "delay-model",
+        f"oil-column damping of the first-order model within {DELAY_MODEL_TOLERANCE:.0%} of the exact "
+        "sampled-data model at 250 and 500 us, and further off at 1000 us.",
+        _delay_model,
+    ),
+    Claim(
+        "sec4-kp-fidelity",
+        "4.5.4, Figure 4.16",
+        "K_p = 0.001 V/psi gives the most faithful linear model: poor at 0.0002, better at 0.0006, "
+        "best at 0.001, deteriorating at 0.0014 V/psi.",
+        "report-sec4",
+        "kp-frf",
+        "multisine FRF z/u of the virtual table with the 36 in vessel against the linear model "
+        "(Section 4.5.4 method): smallest rms log error over 10-50 Hz for K_p in 0.0008-0.0012 V/psi.",
+        _kp_model_fidelity,
+    ),
+    Claim(
+        "sec8-tracking-20hz",
+        "8.3.1, Contribution #7",
+        "The table tracks the input accurately up to 20 Hz for mass ratios up to 2 (water depth up to "
+        "30 in), with slightly reduced accuracy at 2.5.",
+        "report-sec8",
+        "depths",
+        f"5%-damped spectra of table and input agree within {AGREEMENT_TOLERANCE:.0%} from 0.25 Hz to at "
+        "least 20 Hz for every motion at 0, 18 and 30 in.",
+        _tracking_depths,
+    ),
+    Claim(
+        "sec8-feedback",
+        "8.3.2",
+        "At a mass ratio of 2.5 the compensation u_w is essential: without it tracking is poor.",
+        "report-sec8",
+        "feedback",
+        f"at 42 in, the mean spectral error 0.25-15 Hz without u_w is at least {MEANINGFUL_RATIO:g} times "
+        "that with load-cell feedback.",
+        _feedback_sources,
+    ),
+    Claim(
+        "sec8-kp",
+        "8.3.3",
+        "K_p = 0.0002 V/psi tracks poorly above 5 Hz; a sufficiently large K_p (0.001 V/psi) tracks well.",
+        "report-sec8",
+        "kp",
+        f"mean spectral error 0.25-15 Hz at K_p = 0.0002 at least {MEANINGFUL_RATIO:g} times that at "
+        "0.001 V/psi.",
+        _worse_than("K_p", 0.0002, 0.001, "K_p [V/psi]"),
+    ),
+    Claim(
+        "sec8-fc",
+        "8.3.4",
+        "At a mass ratio of 2.5, f_c = 40 Hz tracks poorly and tracking improves at 80 Hz.",
+        "report-sec8",
+        "fc",
+        f"at 42 in, the mean spectral error 0.25-15 Hz at f_c = 40 Hz at least {MEANINGFUL_RATIO:g} times "
+        "that at 80 Hz.",
+        _worse_than("f_c", 40.0, 80.0, "f_c [Hz]", water_depth=42.0),
+    ),
+    Claim(
+        "sec9-band",
+        "9.3, Contribution #8",
+        "MIL is accurate from 0.25 to 15 Hz for the 27 cases of Table 9.4, with reduced accuracy above.",
+        "report-sec9",
+        "table-9.4",
+        f"table and VS-target spectra agree within {AGREEMENT_TOLERANCE:.0%} from 0.25 Hz to at least 15 Hz "
+        "in at least 80 % of the cases, and no run aborts.",
+        _mil_band,
+    ),
+    Claim(
+        "sec9-table-9.5",
+        "9.4.3, Table 9.5",
+        "For SD2 (m_vs = 1.25 m_st): f_c = 1000 Hz violates constraint II; 250 and 100 Hz satisfy all; "
+        "50 Hz violates constraints I and III.",
+        "report-sec9",
+        "design-fc",
+        "constraints I, II, III of the designed controller at each f_c equal Table 9.5.",
+        _fc_table_9_5,
+    ),
+    Claim(
+        "sec9-basemat-mass",
+        "9.4.4, Figure 9.34",
+        "For SD2 at f_c = 80 Hz the MIL system becomes unstable when the basemat mass is reduced to "
+        "0.7 m_st (0.8 m_st for LR2, 0.9 m_st for FP2).",
+        "report-sec9",
+        "basemat-mass",
+        "SD2 MIL runs: the largest unstable m_vs/m_st (a trip other than stroke, or rms above 15 Hz larger "
+        "than the target's) lies in 0.6-0.8 and every larger ratio is stable.",
+        _instability_threshold,
+    ),
+    Claim(
+        "sec9-fc-recovery",
+        "9.4.5, Figure 9.35",
+        "At m_vs = 0.7 m_st, raising f_c from 80 Hz to 200 Hz reduces the high-frequency oscillations "
+        "and restores MIL performance.",
+        "report-sec9",
+        "fc-recovery",
+        f"SD2 at 0.7 m_st: the run at 200 Hz is stable and the 80 Hz run is unstable or has at least "
+        f"{MEANINGFUL_RATIO:g} times its high-frequency content.",
+        _fc_recovers,
+    ),
 )
 
 
@@ -410,10 +535,19 @@ def evaluate_claims(tables: Sequence[SummaryTable], claims: Sequence[Claim] = CL
     outcomes = []
     for claim in claims:
         rows = tuple(row for table in tables for row in table.where(study=claim.study).rows)
-        finished = SummaryTable(_columns(tables), tuple(r for r in rows if r.get("status") in ("ok", "aborted")))
+        finished = SummaryTable(
+            _columns(tables), tuple(r for r in rows if r.get("status") in ("ok", "aborted"))
+        )
         if not len(finished):
-            why = "no finished run of study " + repr(claim.study) + (
-                f" ({len(rows)} runs failed or pending)" if rows else f"; run `imil campaign run {claim.campaign}`")
+            why = (
+                "no finished run of study "
+                + repr(claim.study)
+                + (
+                    f" ({len(rows)} runs failed or pending)"
+                    if rows
+                    else f"; run `imil campaign run {claim.campaign}`"
+                )
+            )
             outcomes.append(ClaimOutcome(claim, NOT_RUN, why))
             continue
         verdict, measured, curves, xlabel, ylabel, xlog = claim.evaluate(finished)

@@ -17,9 +17,10 @@ import concurrent.futures as cf
 import os
 import socket
 import time
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any
 
 from ..errors import LimitTripped
 from ..fileio import atomic_path
@@ -134,8 +135,9 @@ def execute_run(kind_name: str, config: dict[str, Any], root: str, run_id: str) 
             outcome["error"] = str(metrics.get("abort_reason", "a safety limit tripped"))
         outcome["metrics"] = metrics
     except LimitTripped as exc:
-        outcome.update(status="aborted", error=_one_line(exc),
-                       metrics={"aborted": True, "abort_time_s": exc.time_s})
+        outcome.update(
+            status="aborted", error=_one_line(exc), metrics={"aborted": True, "abort_time_s": exc.time_s}
+        )
     except Exception as exc:  # any error of a run is recorded, the campaign goes on
         outcome.update(status="failed", error=_one_line(exc))
     outcome["elapsed_s"] = time.perf_counter() - start
@@ -150,22 +152,40 @@ def _record(run: RunSpec, future: Any) -> RunRecord:
         raise
     except Exception as exc:  # the worker itself died (e.g. BrokenProcessPool) or Dask lost it
         outcome = {"status": "failed", "error": "worker lost: " + _one_line(exc)}
-    return RunRecord(run_id=run.run_id, kind=run.kind, studies=run.studies,
-                     settings=dict(run.settings), **outcome)
+    return RunRecord(
+        run_id=run.run_id, kind=run.kind, studies=run.studies, settings=dict(run.settings), **outcome
+    )
 
 
 def manifest(spec: CampaignSpec) -> dict[str, Any]:
     """The expanded campaign as plain data (written to ``campaign.json``)."""
     return {
-        "name": spec.name, "kind": spec.kind, "title": spec.title, "section": spec.section,
-        "source": spec.source, "reduced": spec.reduced, "parameters": list(spec.parameters),
-        "runs": [{"run_id": r.run_id, "kind": r.kind, "studies": list(r.studies),
-                  "settings": r.settings, "config": r.config} for r in spec.runs],
+        "name": spec.name,
+        "kind": spec.kind,
+        "title": spec.title,
+        "section": spec.section,
+        "source": spec.source,
+        "reduced": spec.reduced,
+        "parameters": list(spec.parameters),
+        "runs": [
+            {
+                "run_id": r.run_id,
+                "kind": r.kind,
+                "studies": list(r.studies),
+                "settings": r.settings,
+                "config": r.config,
+            }
+            for r in spec.runs
+        ],
     }
 
 
-def run_campaign(spec: CampaignSpec, out_dir: str | Path, executor: RunExecutor | None = None,
-                 on_progress: Callable[[ProgressEvent], None] | None = None) -> CampaignResult:
+def run_campaign(
+    spec: CampaignSpec,
+    out_dir: str | Path,
+    executor: RunExecutor | None = None,
+    on_progress: Callable[[ProgressEvent], None] | None = None,
+) -> CampaignResult:
     """Run the pending runs of a campaign and write its records and summary.
 
     Parameters
@@ -202,8 +222,9 @@ def run_campaign(spec: CampaignSpec, out_dir: str | Path, executor: RunExecutor 
     executed: list[str] = []
     futures: dict[Any, RunSpec] = {}
     try:
-        futures = {pool.submit(execute_run, run.kind, run.config, str(store.root), run.run_id): run
-                   for run in todo}
+        futures = {
+            pool.submit(execute_run, run.kind, run.config, str(store.root), run.run_id): run for run in todo
+        }
         for future in pool.as_completed(futures):
             record = _record(futures.pop(future), future)
             store.write_record(record)
@@ -221,5 +242,10 @@ def run_campaign(spec: CampaignSpec, out_dir: str | Path, executor: RunExecutor 
         if own:
             pool.shutdown()
     records = tuple(r for r in (store.load_record(run.run_id) for run in spec.runs) if r)
-    return CampaignResult(root=store.root, records=records, executed=tuple(executed),
-                          skipped=skipped, summary=write_summary(store, spec))
+    return CampaignResult(
+        root=store.root,
+        records=records,
+        executed=tuple(executed),
+        skipped=skipped,
+        summary=write_summary(store, spec),
+    )

@@ -19,7 +19,8 @@ import abc
 import concurrent.futures as cf
 import multiprocessing
 import os
-from typing import Any, Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any
 
 from ..errors import ConfigError, ImilError
 
@@ -65,7 +66,7 @@ class RunExecutor(abc.ABC):
     def shutdown(self, cancel: bool = False) -> None:
         """Release the workers; with ``cancel``, drop runs that have not started."""
 
-    def __enter__(self) -> "RunExecutor":
+    def __enter__(self) -> RunExecutor:
         return self
 
     def __exit__(self, exc_type: Any, exc: Any, tb: Any) -> None:
@@ -154,12 +155,13 @@ class DaskExecutor(RunExecutor):
         if distributed is None:
             raise SchedulerError("--scheduler needs Dask: pip install 'impedance-mil[dask]'")
         try:
-            self._client = distributed.Client(address, timeout=connect_timeout_s,
-                                              set_as_default=False)
+            self._client = distributed.Client(address, timeout=connect_timeout_s, set_as_default=False)
         except (OSError, TimeoutError, ValueError) as exc:
             reason = " ".join(str(exc).split()) or type(exc).__name__
-            raise SchedulerError(f"--scheduler {address}: no Dask scheduler reachable within "
-                                 f"{connect_timeout_s:g} s ({reason[:160]})") from None
+            raise SchedulerError(
+                f"--scheduler {address}: no Dask scheduler reachable within "
+                f"{connect_timeout_s:g} s ({reason[:160]})"
+            ) from None
         info = self._client.scheduler_info()
         threads = sum(w.get("nthreads", 1) for w in info.get("workers", {}).values())
         self.workers = max(threads, 1)
@@ -184,8 +186,11 @@ def default_workers() -> int:
         return max(os.cpu_count() or 1, 1)
 
 
-def make_executor(workers: int | None = None, scheduler: str | None = None,
-                  connect_timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S) -> RunExecutor:
+def make_executor(
+    workers: int | None = None,
+    scheduler: str | None = None,
+    connect_timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S,
+) -> RunExecutor:
     """Choose an executor from the CLI options.
 
     Parameters

@@ -11,17 +11,33 @@ exception records it as *failed* with its reason.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Callable, Mapping
+from typing import Any
 
 from ..errors import ConfigError
-from .labkinds import (FRF_DEFAULTS, FRF_PARAMS, MIL_DEFAULTS, MIL_PARAMS, TRACKING_DEFAULTS,
-                        TRACKING_PARAMS, resolve_motion, run_frf_kind, run_mil_kind,
-                        run_tracking_kind)
-from .modelkinds import (DESIGN_DEFAULTS, DESIGN_PARAMS, TABLE_POLES_DEFAULTS, TABLE_POLES_PARAMS,
-                         run_design, run_table_poles)
+from .labkinds import (
+    FRF_DEFAULTS,
+    FRF_PARAMS,
+    MIL_DEFAULTS,
+    MIL_PARAMS,
+    TRACKING_DEFAULTS,
+    TRACKING_PARAMS,
+    resolve_motion,
+    run_frf_kind,
+    run_mil_kind,
+    run_tracking_kind,
+)
+from .modelkinds import (
+    DESIGN_DEFAULTS,
+    DESIGN_PARAMS,
+    TABLE_POLES_DEFAULTS,
+    TABLE_POLES_PARAMS,
+    run_design,
+    run_table_poles,
+)
 from .params import Param
 from .selftest import SELFTEST_DEFAULTS, SELFTEST_PARAMS, run_selftest
 
@@ -66,21 +82,57 @@ class Kind:
 
 
 #: Every campaign kind, by name (read-only).
-KINDS: Mapping[str, Kind] = MappingProxyType({
-    "selftest": Kind("selftest", run_selftest, SELFTEST_PARAMS, SELFTEST_DEFAULTS,
-                     "modes of an SD isolator (engine and cluster check; no virtual lab)",
-                     output="selftest.h5"),
-    "table-poles": Kind("table-poles", run_table_poles, TABLE_POLES_PARAMS, TABLE_POLES_DEFAULTS,
-                        "closed-loop poles of the table model (Section 4.4 tuning)", output="poles.h5"),
-    "design": Kind("design", run_design, DESIGN_PARAMS, DESIGN_DEFAULTS,
-                   "MIL controller design and constraints I-III (Sections 6, 9.4)", output="design.json"),
-    "frf": Kind("frf", run_frf_kind, FRF_PARAMS, FRF_DEFAULTS,
-                "multisine identification of the virtual table (Section 4.5)"),
-    "tracking": Kind("tracking", run_tracking_kind, TRACKING_PARAMS, TRACKING_DEFAULTS,
-                     "acceleration tracking on the virtual table (Section 8)", resolve_motion),
-    "mil": Kind("mil", run_mil_kind, MIL_PARAMS, MIL_DEFAULTS,
-                "MIL with a virtual isolation system (Section 9)", resolve_motion),
-})
+KINDS: Mapping[str, Kind] = MappingProxyType(
+    {
+        "selftest": Kind(
+            "selftest",
+            run_selftest,
+            SELFTEST_PARAMS,
+            SELFTEST_DEFAULTS,
+            "modes of an SD isolator (engine and cluster check; no virtual lab)",
+            output="selftest.h5",
+        ),
+        "table-poles": Kind(
+            "table-poles",
+            run_table_poles,
+            TABLE_POLES_PARAMS,
+            TABLE_POLES_DEFAULTS,
+            "closed-loop poles of the table model (Section 4.4 tuning)",
+            output="poles.h5",
+        ),
+        "design": Kind(
+            "design",
+            run_design,
+            DESIGN_PARAMS,
+            DESIGN_DEFAULTS,
+            "MIL controller design and constraints I-III (Sections 6, 9.4)",
+            output="design.json",
+        ),
+        "frf": Kind(
+            "frf",
+            run_frf_kind,
+            FRF_PARAMS,
+            FRF_DEFAULTS,
+            "multisine identification of the virtual table (Section 4.5)",
+        ),
+        "tracking": Kind(
+            "tracking",
+            run_tracking_kind,
+            TRACKING_PARAMS,
+            TRACKING_DEFAULTS,
+            "acceleration tracking on the virtual table (Section 8)",
+            resolve_motion,
+        ),
+        "mil": Kind(
+            "mil",
+            run_mil_kind,
+            MIL_PARAMS,
+            MIL_DEFAULTS,
+            "MIL with a virtual isolation system (Section 9)",
+            resolve_motion,
+        ),
+    }
+)
 
 
 def get_kind(name: str) -> Kind:

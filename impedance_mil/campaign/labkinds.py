@@ -32,51 +32,102 @@ from .runmetrics import tracking_metrics
 FEEDBACK_SOURCES = {"load_cells": ("lc", True), "force_equilibrium": ("fe", True), "none": ("lc", False)}
 
 SPECIMEN_PARAMS: dict[str, Param] = {
-    "specimen": Param("specimen.kind", type="choice", choices=("vessel", "bare"),
-                      help="test article: the water-filled vessel of Section 3.2, or the bare table"),
-    "water_depth": Param("specimen.water_depth", unit="inch", check="nonnegative",
-                         help="water depth in the vessel d_w [in] (Section 8.2: 0, 18, 30, 42)"),
+    "specimen": Param(
+        "specimen.kind",
+        type="choice",
+        choices=("vessel", "bare"),
+        help="test article: the water-filled vessel of Section 3.2, or the bare table",
+    ),
+    "water_depth": Param(
+        "specimen.water_depth",
+        unit="inch",
+        check="nonnegative",
+        help="water depth in the vessel d_w [in] (Section 8.2: 0, 18, 30, 42)",
+    ),
 }
 
 MOTION_PARAMS: dict[str, Param] = {
-    "motion": Param("motion.name", type="choice", choices=tuple(REPORT_MOTIONS),
-                    help="input motion of Table 8.1 (GM1, GM2, GM3)"),
-    "motions_dir": Param("motion.motions_dir", type="text",
-                         help="folder with the PEER RSN*.AT2 seeds (else documented substitutes)"),
-    "motion_scale": Param("motion.scale", unit="dimensionless", check="positive",
-                          help="factor on the PGA of Table 8.1 (1 = the report's motion)"),
-    "duration": Param("motion.duration", unit="second", check="positive",
-                      help="keep only the first seconds of the (time-scaled) motion [s]"),
+    "motion": Param(
+        "motion.name",
+        type="choice",
+        choices=tuple(REPORT_MOTIONS),
+        help="input motion of Table 8.1 (GM1, GM2, GM3)",
+    ),
+    "motions_dir": Param(
+        "motion.motions_dir",
+        type="text",
+        help="folder with the PEER RSN*.AT2 seeds (else documented substitutes)",
+    ),
+    "motion_scale": Param(
+        "motion.scale",
+        unit="dimensionless",
+        check="positive",
+        help="factor on the PGA of Table 8.1 (1 = the report's motion)",
+    ),
+    "duration": Param(
+        "motion.duration",
+        unit="second",
+        check="positive",
+        help="keep only the first seconds of the (time-scaled) motion [s]",
+    ),
 }
 
 RUN_PARAMS: dict[str, Param] = {
-    "feedback": Param("controller.feedback", type="choice", choices=tuple(FEEDBACK_SOURCES),
-                      help="source of w (Section 8.3.2): load_cells, force_equilibrium, none (u_w = 0)"),
-    "precision": Param("controller.precision", type="choice", choices=("single", "double"),
-                       help="controller arithmetic (the RMC75E computes in single precision)"),
+    "feedback": Param(
+        "controller.feedback",
+        type="choice",
+        choices=tuple(FEEDBACK_SOURCES),
+        help="source of w (Section 8.3.2): load_cells, force_equilibrium, none (u_w = 0)",
+    ),
+    "precision": Param(
+        "controller.precision",
+        type="choice",
+        choices=("single", "double"),
+        help="controller arithmetic (the RMC75E computes in single precision)",
+    ),
     "seed": Param("seed", type="integer", check="nonnegative", help="sensor-noise seed"),
 }
 
 FRF_PARAMS: dict[str, Param] = {**TABLE_PARAMS, **SPECIMEN_PARAMS, "seed": RUN_PARAMS["seed"]}
-TRACKING_PARAMS: dict[str, Param] = {**TABLE_PARAMS, **SPECIMEN_PARAMS, **MOTION_PARAMS,
-                                     **CONTROLLER_PARAMS, **RUN_PARAMS}
+TRACKING_PARAMS: dict[str, Param] = {
+    **TABLE_PARAMS,
+    **SPECIMEN_PARAMS,
+    **MOTION_PARAMS,
+    **CONTROLLER_PARAMS,
+    **RUN_PARAMS,
+}
 MIL_PARAMS: dict[str, Param] = {
-    **TRACKING_PARAMS, **VS_PARAMS,
-    "feedback": Param("controller.feedback", type="choice", choices=("load_cells", "force_equilibrium"),
-                      help="source of w (Appendix C): load_cells or force_equilibrium"),
-    "m_vs": Param("vs.m_vs", unit=INTERNAL_UNITS["mass"], check="positive",
-                  help="basemat mass m_vs (instead of m_vs_ratio) [lbf*s^2/in]"),
+    **TRACKING_PARAMS,
+    **VS_PARAMS,
+    "feedback": Param(
+        "controller.feedback",
+        type="choice",
+        choices=("load_cells", "force_equilibrium"),
+        help="source of w (Appendix C): load_cells or force_equilibrium",
+    ),
+    "m_vs": Param(
+        "vs.m_vs",
+        unit=INTERNAL_UNITS["mass"],
+        check="positive",
+        help="basemat mass m_vs (instead of m_vs_ratio) [lbf*s^2/in]",
+    ),
 }
 
 _MOTION_DEFAULTS = {"name": "GM1", "motions_dir": None, "scale": 1.0, "duration": None}
 _CONTROLLER_DEFAULTS = {"fc_hz": 80.0, "feedback": "load_cells", "precision": "single"}
 FRF_DEFAULTS: dict[str, Any] = {"table": {}, "specimen": {"kind": "bare", "water_depth": 36.0}, "seed": 0}
 TRACKING_DEFAULTS: dict[str, Any] = {
-    "table": {}, "specimen": {"kind": "vessel", "water_depth": 0.0}, "motion": _MOTION_DEFAULTS,
-    "controller": _CONTROLLER_DEFAULTS, "seed": 0}
+    "table": {},
+    "specimen": {"kind": "vessel", "water_depth": 0.0},
+    "motion": _MOTION_DEFAULTS,
+    "controller": _CONTROLLER_DEFAULTS,
+    "seed": 0,
+}
 MIL_DEFAULTS: dict[str, Any] = {
-    **TRACKING_DEFAULTS, "specimen": {"kind": "vessel", "water_depth": 36.0},
-    "vs": {"preset": "SD2", "m_vs_ratio": None, "m_vs": None}}
+    **TRACKING_DEFAULTS,
+    "specimen": {"kind": "vessel", "water_depth": 36.0},
+    "vs": {"preset": "SD2", "m_vs_ratio": None, "m_vs": None},
+}
 
 #: Bands of the FRF model error [Hz]: the whole multisine band, and the oil-column band of Figure 4.16.
 FRF_BANDS_HZ = {"model_error": (0.25, 100.0), "model_error_10_50hz": (10.0, 50.0)}
@@ -104,19 +155,28 @@ def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     params = table_parameters(config)
     specimen = _specimen(config)
     multisine = report_multisine(params.loop_time)
-    exp = run_frf(params, multisine=multisine, specimen=specimen, identify=specimen is None,
-                  seed=int(config["seed"]))
+    exp = run_frf(
+        params, multisine=multisine, specimen=specimen, identify=specimen is None, seed=int(config["seed"])
+    )
     if not exp.completed:
         save_run(exp.run, out_path)
         return _aborted(exp.run)
     z = exp.frf["z"]
-    save_run(exp.run, out_path, extra_groups={"frf": {
-        "f_hz": z.frequency_hz, "H_zu_measured": z.response, "H_zu_model": exp.model["z"]}})
+    save_run(
+        exp.run,
+        out_path,
+        extra_groups={
+            "frf": {"f_hz": z.frequency_hz, "H_zu_measured": z.response, "H_zu_model": exp.model["z"]}
+        },
+    )
     metrics = {name: exp.model_error("z", band) for name, band in FRF_BANDS_HZ.items()}
     if exp.identification is not None:
         ident = exp.identification.summary()
-        metrics.update(f_oil_hz=ident["f_oil_hz"], zeta_oil=ident["zeta_oil"],
-                       identification_error=ident["rms_log_error"])
+        metrics.update(
+            f_oil_hz=ident["f_oil_hz"],
+            zeta_oil=ident["zeta_oil"],
+            identification_error=ident["rms_log_error"],
+        )
     return metrics
 
 
@@ -156,9 +216,16 @@ def run_tracking_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     motion, source = _motion(config)
     ctrl = config["controller"]
     feedback, compensate = FEEDBACK_SOURCES[ctrl["feedback"]]
-    result = run_tracking(params, motion, specimen=_specimen(config), fc_hz=float(ctrl["fc_hz"]),
-                          feedback=feedback, compensate=compensate, precision=ctrl["precision"],
-                          seed=int(config["seed"]))
+    result = run_tracking(
+        params,
+        motion,
+        specimen=_specimen(config),
+        fc_hz=float(ctrl["fc_hz"]),
+        feedback=feedback,
+        compensate=compensate,
+        precision=ctrl["precision"],
+        seed=int(config["seed"]),
+    )
     return _controlled_metrics(result, source, out_path)
 
 
@@ -169,8 +236,16 @@ def run_mil_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     ctrl = config["controller"]
     feedback, _ = FEEDBACK_SOURCES[ctrl["feedback"]]
     vs = virtual_system(config, params.mass)
-    result = run_mil(params, vs, motion, specimen=_specimen(config), fc_hz=float(ctrl["fc_hz"]),
-                     feedback=feedback, precision=ctrl["precision"], seed=int(config["seed"]))
+    result = run_mil(
+        params,
+        vs,
+        motion,
+        specimen=_specimen(config),
+        fc_hz=float(ctrl["fc_hz"]),
+        feedback=feedback,
+        precision=ctrl["precision"],
+        seed=int(config["seed"]),
+    )
     metrics = _controlled_metrics(result, source, out_path)
     metrics["m_vs_over_m_st"] = vs.m_vs / params.mass
     return metrics

@@ -20,8 +20,8 @@ import h5py
 import numpy as np
 
 from ..design import design_controller, table_model, virtual_model
-from ..design.io import save_design
 from ..design.forms import FORMS
+from ..design.io import save_design
 from ..plant import DELAYS, LinearTable, TableParameters
 from ..units import INTERNAL_UNITS, TWO_PI
 from ..virtual import presets
@@ -31,18 +31,28 @@ from .params import Param
 TABLE_PARAMS: dict[str, Param] = {
     "K_e": Param("table.Ke", unit="volt / inch", check="positive", help="proportional gain K_e [V/in]"),
     "K_p": Param("table.Kp", unit="volt / psi", check="nonnegative", help="Delta-P gain K_p [V/psi]"),
-    "loop_time": Param("table.loop_time", unit="second", check="nonnegative",
-                       help="controller loop time tau_s [s]"),
-    "m_st": Param("table.mass", unit=INTERNAL_UNITS["mass"], check="positive",
-                  help="moving table mass m_st [lbf*s^2/in]"),
+    "loop_time": Param(
+        "table.loop_time", unit="second", check="nonnegative", help="controller loop time tau_s [s]"
+    ),
+    "m_st": Param(
+        "table.mass",
+        unit=INTERNAL_UNITS["mass"],
+        check="positive",
+        help="moving table mass m_st [lbf*s^2/in]",
+    ),
 }
 
 #: Virtual-system parameters shared by the design and MIL kinds.
 VS_PARAMS: dict[str, Param] = {
-    "vs": Param("vs.preset", type="choice", choices=presets.names(),
-                help="isolation system of Tables 9.1-9.3"),
-    "m_vs_ratio": Param("vs.m_vs_ratio", unit="dimensionless", check="positive",
-                        help="basemat mass as a multiple of the table mass, m_vs/m_st (Section 9.4.4)"),
+    "vs": Param(
+        "vs.preset", type="choice", choices=presets.names(), help="isolation system of Tables 9.1-9.3"
+    ),
+    "m_vs_ratio": Param(
+        "vs.m_vs_ratio",
+        unit="dimensionless",
+        check="positive",
+        help="basemat mass as a multiple of the table mass, m_vs/m_st (Section 9.4.4)",
+    ),
 }
 
 #: Controller parameters shared by the design, tracking and MIL kinds.
@@ -95,8 +105,7 @@ def run_table_poles(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
         fh.create_dataset("poles_imag", data=poles.imag)
         fh.attrs["units"] = "rad/s"
     complex_poles = poles[poles.imag > 1e-9]
-    out: dict[str, Any] = {"stable": bool(np.all(poles.real < 0)),
-                           "max_pole_real": float(np.max(poles.real))}
+    out: dict[str, Any] = {"stable": bool(np.all(poles.real < 0)), "max_pole_real": float(np.max(poles.real))}
     if complex_poles.size:
         zeta = -complex_poles.real / np.abs(complex_poles)
         k = int(np.argmin(zeta))
@@ -107,14 +116,22 @@ def run_table_poles(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
 
 # --------------------------------------------------------------------- design
 DESIGN_PARAMS: dict[str, Param] = {
-    **TABLE_PARAMS, **VS_PARAMS, **CONTROLLER_PARAMS,
-    "form": Param("controller.form", type="choice", choices=tuple(FORMS),
-                  help="controller form (Section 6): standardized, vs-specific, tracking, general"),
+    **TABLE_PARAMS,
+    **VS_PARAMS,
+    **CONTROLLER_PARAMS,
+    "form": Param(
+        "controller.form",
+        type="choice",
+        choices=tuple(FORMS),
+        help="controller form (Section 6): standardized, vs-specific, tracking, general",
+    ),
 }
 DESIGN_DEFAULTS: dict[str, Any] = {
-    "table": {}, "vs": {"preset": "SD2", "m_vs_ratio": 1.25},
+    "table": {},
+    "vs": {"preset": "SD2", "m_vs_ratio": 1.25},
     "controller": {"fc_hz": 80.0, "form": "standardized"},
 }
+
 
 def run_design(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """Design the filtered MIL controller and evaluate constraints I, II, III (Section 9.4).
@@ -135,8 +152,9 @@ def run_design(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     vs = virtual_system(config, params.mass)
     vm = virtual_model(vs, config["vs"]["preset"])
     form = ctrl["form"]
-    design = design_controller(tm, None if form == "tracking" else vm, form=form,
-                               fc_hz=float(ctrl["fc_hz"]), emit_warnings=False)
+    design = design_controller(
+        tm, None if form == "tracking" else vm, form=form, fc_hz=float(ctrl["fc_hz"]), emit_warnings=False
+    )
     save_design(design, out_path)
     result = design.constraints[0].to_dict()
     result.pop("fc_hz", None)

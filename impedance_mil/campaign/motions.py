@@ -71,8 +71,9 @@ class ReportMotion:
 #: Report Table 8.1.
 REPORT_MOTIONS: dict[str, ReportMotion] = {
     "GM1": ReportMotion("GM1", 6, "Imperial Valley-02, 1940, NS", 0.28, 0.8, None, "elcentro"),
-    "GM2": ReportMotion("GM2", 864, "Chalfant Valley-06, 1986, NS", 0.27, 0.6,
-                        ("farfield", 14, "a"), "elcentro"),
+    "GM2": ReportMotion(
+        "GM2", 864, "Chalfant Valley-06, 1986, NS", 0.27, 0.6, ("farfield", 14, "a"), "elcentro"
+    ),
     "GM3": ReportMotion("GM3", 2632, "Chi-Chi, 1999, NS", 0.14, 0.4, ("farfield", 20, "b"), "elcentro"),
 }
 
@@ -90,9 +91,13 @@ def find_peer_file(folder: Path, rsn: int) -> Path | None:
     """
     if not folder.is_dir():
         raise DataFileError(folder, "motions_dir is not a folder")
-    candidates = sorted(p for p in folder.iterdir()
-                        if p.name.upper().startswith(f"RSN{rsn}_") and p.suffix.upper() == ".AT2"
-                        and not _VERTICAL.search(p.name))
+    candidates = sorted(
+        p
+        for p in folder.iterdir()
+        if p.name.upper().startswith(f"RSN{rsn}_")
+        and p.suffix.upper() == ".AT2"
+        and not _VERTICAL.search(p.name)
+    )
     if not candidates:
         return None
     preferred = [p for p in candidates if _NS_SUFFIX.search(p.name)]
@@ -133,14 +138,16 @@ def seed_motion(name: str, motions_dir: str | Path | None = None) -> tuple[Groun
         return read_at2(Path(motions_dir) / key), f"PEER {key}"
     if kind == "fema":
         record_set, record = key.split(":")
-        return read_fema_p695(record_set, int(record[:-1]), record[-1]), \
-            f"substitute FEMA P695 {record_set} {record}"
+        return read_fema_p695(
+            record_set, int(record[:-1]), record[-1]
+        ), f"substitute FEMA P695 {record_set} {record}"
     original = REPORT_MOTIONS[name].rsn == 6 and key == "elcentro"
     return builtin_motion(key), f"{'' if original else 'substitute '}built-in {key}"
 
 
-def report_motion(name: str, motions_dir: str | Path | None = None, scale: float = 1.0,
-                  duration_s: float | None = None) -> tuple[GroundMotion, str]:
+def report_motion(
+    name: str, motions_dir: str | Path | None = None, scale: float = 1.0, duration_s: float | None = None
+) -> tuple[GroundMotion, str]:
     """A report motion ready to run: time-scaled by 2 and scaled to Table 8.1's PGA.
 
     Parameters

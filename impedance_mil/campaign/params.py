@@ -12,8 +12,9 @@ integer or a boolean.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
 from ..config import quantity
 from ..errors import ConfigError
@@ -98,8 +99,9 @@ class Param:
         return self.type
 
 
-def convert_settings(params: Mapping[str, Param], settings: Mapping[str, Any],
-                     *, where: str) -> dict[str, Any]:
+def convert_settings(
+    params: Mapping[str, Param], settings: Mapping[str, Any], *, where: str
+) -> dict[str, Any]:
     """Validate a mapping ``{parameter name: raw value}``.
 
     Parameters

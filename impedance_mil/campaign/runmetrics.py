@@ -36,8 +36,9 @@ SPECTRUM_FREQUENCIES_HZ = np.logspace(math.log10(LOW_FREQUENCY_HZ), math.log10(5
 HIGH_FREQUENCY_HZ = 15.0
 
 
-def spectral_ratio(table_accel: np.ndarray, target_accel: np.ndarray, time_step: float,
-                   damping: float = 0.05) -> np.ndarray:
+def spectral_ratio(
+    table_accel: np.ndarray, target_accel: np.ndarray, time_step: float, damping: float = 0.05
+) -> np.ndarray:
     """``PSA_table / PSA_target`` at :data:`SPECTRUM_FREQUENCIES_HZ` (5 % damping by default).
 
     Parameters
@@ -89,5 +90,7 @@ def tracking_metrics(table_accel, target_accel, time_step: float) -> dict[str, f
     """
     z = np.asarray(table_accel, dtype=float)
     r = np.asarray(target_accel, dtype=float)
-    return {"spectral_agreement_hz": agreement_frequency(spectral_ratio(z, r, time_step)),
-            "hf_ratio": high_frequency_ratio(z, r, time_step)}
+    return {
+        "spectral_agreement_hz": agreement_frequency(spectral_ratio(z, r, time_step)),
+        "hf_ratio": high_frequency_ratio(z, r, time_step),
+    }

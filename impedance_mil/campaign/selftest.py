@@ -26,14 +26,30 @@ from .params import Param
 
 #: Parameters of the ``selftest`` kind.
 SELFTEST_PARAMS: dict[str, Param] = {
-    "mass": Param("oscillator.mass", unit=INTERNAL_UNITS["mass"], check="positive",
-                  help="total mass on the isolator, m_vs + m_ps [lbf*s^2/in]"),
-    "stiffness": Param("oscillator.stiffness", unit="force_pound / inch", check="positive",
-                       help="horizontal stiffness k_s [lbf/in]"),
-    "damping": Param("oscillator.damping", unit="force_pound * second / inch", check="nonnegative",
-                     help="viscous damping coefficient c [lbf*s/in]"),
-    "delay": Param("delay", unit="second", check="nonnegative",
-                   help="wall-clock time the run sleeps before returning [s] (engine tests)"),
+    "mass": Param(
+        "oscillator.mass",
+        unit=INTERNAL_UNITS["mass"],
+        check="positive",
+        help="total mass on the isolator, m_vs + m_ps [lbf*s^2/in]",
+    ),
+    "stiffness": Param(
+        "oscillator.stiffness",
+        unit="force_pound / inch",
+        check="positive",
+        help="horizontal stiffness k_s [lbf/in]",
+    ),
+    "damping": Param(
+        "oscillator.damping",
+        unit="force_pound * second / inch",
+        check="nonnegative",
+        help="viscous damping coefficient c [lbf*s/in]",
+    ),
+    "delay": Param(
+        "delay",
+        unit="second",
+        check="nonnegative",
+        help="wall-clock time the run sleeps before returning [s] (engine tests)",
+    ),
     "fail": Param("fail", type="boolean", help="raise an error instead of computing (engine tests)"),
 }
 

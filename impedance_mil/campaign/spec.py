@@ -35,9 +35,10 @@ the list is built.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from ..config import read_toml
 from ..errors import ConfigError, DataFileError
@@ -130,12 +131,18 @@ def resolve_campaign(ref: str | Path) -> Path:
     builtins = builtin_campaigns()
     if str(ref) in builtins:
         return builtins[str(ref)]
-    raise DataFileError(ref, "no such campaign file or built-in campaign (built-ins: "
-                        + ", ".join(builtins) + ")")
+    raise DataFileError(
+        ref, "no such campaign file or built-in campaign (built-ins: " + ", ".join(builtins) + ")"
+    )
 
 
-def load_campaign(ref: str | Path, *, reduced: bool = False, max_runs: int = DEFAULT_MAX_RUNS,
-                  overrides: Mapping[str, Any] | None = None) -> CampaignSpec:
+def load_campaign(
+    ref: str | Path,
+    *,
+    reduced: bool = False,
+    max_runs: int = DEFAULT_MAX_RUNS,
+    overrides: Mapping[str, Any] | None = None,
+) -> CampaignSpec:
     """Read, validate and expand a campaign file or built-in campaign.
 
     Parameters
@@ -194,9 +201,16 @@ def load_campaign(ref: str | Path, *, reduced: bool = False, max_runs: int = DEF
         for settings in _expand(study_kind, study, where):
             columns.update(dict.fromkeys(settings))
             _add_run(runs, study_kind, defaults, {**base, **settings}, str(study.get("name", where)))
-    return CampaignSpec(name=name, kind=kind.name, title=str(head.get("title", name)),
-                        section=str(head.get("section", "")), source=str(path), reduced=reduced,
-                        runs=tuple(runs.values()), parameters=tuple(columns))
+    return CampaignSpec(
+        name=name,
+        kind=kind.name,
+        title=str(head.get("title", name)),
+        section=str(head.get("section", "")),
+        source=str(path),
+        reduced=reduced,
+        runs=tuple(runs.values()),
+        parameters=tuple(columns),
+    )
 
 
 def _base_settings(kind: Kind, base_raw: Mapping[str, Any]) -> dict[str, Any]:
@@ -205,8 +219,9 @@ def _base_settings(kind: Kind, base_raw: Mapping[str, Any]) -> dict[str, Any]:
     return convert_settings(kind.params, known, where="base.")
 
 
-def _add_run(runs: dict[str, RunSpec], kind: Kind, defaults: Mapping[str, Any],
-             settings: dict[str, Any], study: str) -> None:
+def _add_run(
+    runs: dict[str, RunSpec], kind: Kind, defaults: Mapping[str, Any], settings: dict[str, Any], study: str
+) -> None:
     config = deep_merge(defaults, {})
     for key, value in settings.items():
         set_path(config, kind.params[key].path, value)
@@ -270,12 +285,18 @@ def _count(study: Mapping[str, Any], where: str) -> int:
 
 def _expand(kind: Kind, study: Mapping[str, Any], where: str) -> list[dict[str, Any]]:
     fixed = convert_settings(kind.params, _table(study, "set", where + "."), where=where + ".set.")
-    product = {key: [_kind_value(kind, f"{where}.product.{key}", v) for v in values]
-               for key, values in _table(study, "product", where + ".").items()}
-    zipped = {key: [_kind_value(kind, f"{where}.zip.{key}", v) for v in values]
-              for key, values in _table(study, "zip", where + ".").items()}
-    cases = [convert_settings(kind.params, case, where=f"{where}.cases[{i}].")
-             for i, case in enumerate(study.get("cases", [{}]))]
+    product = {
+        key: [_kind_value(kind, f"{where}.product.{key}", v) for v in values]
+        for key, values in _table(study, "product", where + ".").items()
+    }
+    zipped = {
+        key: [_kind_value(kind, f"{where}.zip.{key}", v) for v in values]
+        for key, values in _table(study, "zip", where + ".").items()
+    }
+    cases = [
+        convert_settings(kind.params, case, where=f"{where}.cases[{i}].")
+        for i, case in enumerate(study.get("cases", [{}]))
+    ]
     _check_disjoint(where, fixed, product, zipped, cases)
     zip_rows = [dict(zip(zipped, row)) for row in zip(*zipped.values())] or [{}]
     out = []
@@ -300,8 +321,9 @@ def _check_disjoint(where: str, *groups: Any) -> None:
         keys = set().union(*group) if isinstance(group, list) else set(group)
         clash = seen & keys
         if clash:
-            raise ConfigError(f"{where}.{sorted(clash)[0]}",
-                              "each parameter in only one of set, cases, product, zip")
+            raise ConfigError(
+                f"{where}.{sorted(clash)[0]}", "each parameter in only one of set, cases, product, zip"
+            )
         seen |= keys
 
 
@@ -340,4 +362,3 @@ def _base_config(head: Mapping[str, Any], path: Path) -> dict[str, Any]:
         raise ConfigError("campaign.base_config", "a path to a TOML run configuration", ref)
     base_path = Path(ref) if Path(ref).is_absolute() else path.parent / ref
     return read_toml(base_path)
-

@@ -21,9 +21,10 @@ from __future__ import annotations
 
 import hashlib
 import json
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from ..fileio import atomic_write_text, json_safe
 
@@ -43,8 +44,7 @@ def canonical_json(obj: Any) -> str:
     ValueError
         The object holds NaN or infinity (they have no canonical JSON form).
     """
-    return json.dumps(obj, sort_keys=True, separators=(",", ":"), ensure_ascii=True,
-                      allow_nan=False)
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"), ensure_ascii=True, allow_nan=False)
 
 
 def run_id_for(kind: str, config: Mapping[str, Any]) -> str:
@@ -111,7 +111,7 @@ class RunRecord:
         return json.dumps(json_safe(asdict(self)), indent=1, sort_keys=True)
 
     @classmethod
-    def from_json(cls, text: str) -> "RunRecord":
+    def from_json(cls, text: str) -> RunRecord:
         """Parse a record written by :meth:`to_json`.
 
         Raises

@@ -15,9 +15,10 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from ..errors import DataFileError
 from ..fileio import atomic_write_bytes, atomic_write_text, read_text
@@ -70,7 +71,7 @@ class SummaryTable:
     def __len__(self) -> int:
         return len(self.rows)
 
-    def where(self, **criteria: Any) -> "SummaryTable":
+    def where(self, **criteria: Any) -> SummaryTable:
         """Rows whose columns equal the given values (numbers to 1e-9 relative).
 
         ``study=NAME`` matches rows that belong to that study among others.
@@ -115,18 +116,25 @@ def summary_table(store: CampaignStore, spec_or_manifest: CampaignSpec | Mapping
         runs = [(r.run_id, r.studies, r.settings) for r in spec_or_manifest.runs]
     else:
         params = list(spec_or_manifest.get("parameters", []))
-        runs = [(r["run_id"], tuple(r.get("studies", ())), r.get("settings", {}))
-                for r in spec_or_manifest.get("runs", [])]
+        runs = [
+            (r["run_id"], tuple(r.get("studies", ())), r.get("settings", {}))
+            for r in spec_or_manifest.get("runs", [])
+        ]
     rows, metric_names = [], {}
     taken = set(FIXED_COLUMNS) | set(params)
     for run_id, studies, settings in runs:
         record = store.load_record(run_id)
-        row: dict[str, Any] = {"run_id": run_id, "study": ";".join(studies), "status": NOT_RUN,
-                               "error": "", "hdf5": "", "elapsed_s": None}
+        row: dict[str, Any] = {
+            "run_id": run_id,
+            "study": ";".join(studies),
+            "status": NOT_RUN,
+            "error": "",
+            "hdf5": "",
+            "elapsed_s": None,
+        }
         row.update({p: settings.get(p) for p in params})
         if record is not None:
-            row.update(status=record.status, error=record.error, hdf5=record.hdf5,
-                       elapsed_s=record.elapsed_s)
+            row.update(status=record.status, error=record.error, hdf5=record.hdf5, elapsed_s=record.elapsed_s)
             for name, value in record.metrics.items():
                 column = f"metric:{name}" if name in taken else name
                 metric_names[column] = None
@@ -212,7 +220,9 @@ def read_csv_summary(path: Path) -> SummaryTable:
     reader = csv.reader(io.StringIO(text))
     header = next(reader, [])
     if tuple(header[: len(FIXED_COLUMNS)]) != FIXED_COLUMNS:
-        raise DataFileError(path, "not a campaign summary (columns " + ", ".join(FIXED_COLUMNS) + " expected)")
+        raise DataFileError(
+            path, "not a campaign summary (columns " + ", ".join(FIXED_COLUMNS) + " expected)"
+        )
     rows = []
     for cells in reader:
         row = {c: _parse_cell(v) for c, v in zip(header, cells)}
@@ -239,4 +249,3 @@ def load_summary(folder: str | Path) -> SummaryTable:
     if (store.root / "summary.csv").is_file():
         return read_csv_summary(store.root / "summary.csv")
     raise DataFileError(folder, "not a campaign folder (no campaign.json or summary.csv)")
-

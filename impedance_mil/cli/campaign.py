@@ -11,39 +11,54 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import List, Optional
 
 import typer
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from ..campaign import (DEFAULT_MAX_RUNS, KINDS, ProgressEvent, builtin_campaigns, get_kind,
-                        load_campaign, make_executor, run_campaign)
+from ..campaign import (
+    DEFAULT_MAX_RUNS,
+    KINDS,
+    ProgressEvent,
+    builtin_campaigns,
+    get_kind,
+    load_campaign,
+    make_executor,
+    run_campaign,
+)
 from ..campaign.executors import DEFAULT_CONNECT_TIMEOUT_S
 from ..config import parse_overrides
 from ..report.reproduction import write_reproduction_report
 from .common import console, print_json
 from .runopts import EXIT_INTERRUPTED
 
-app = typer.Typer(help="Parameter sweeps (campaigns) and the report-reproduction suite.",
-                  no_args_is_help=True)
+app = typer.Typer(
+    help="Parameter sweeps (campaigns) and the report-reproduction suite.", no_args_is_help=True
+)
 
 
-def _load(campaign: str, reduced: bool, max_runs: int, overrides: Optional[List[str]]):
-    return load_campaign(campaign, reduced=reduced, max_runs=max_runs,
-                         overrides=parse_overrides(overrides))
+def _load(campaign: str, reduced: bool, max_runs: int, overrides: list[str] | None):
+    return load_campaign(campaign, reduced=reduced, max_runs=max_runs, overrides=parse_overrides(overrides))
 
 
 @app.command("run")
 def run(
-    campaign: str = typer.Argument(..., help="Campaign file (TOML) or built-in name (see `imil campaign list`)."),
-    out: Optional[Path] = typer.Option(None, "-o", "--out", help="Campaign folder (default: campaign-NAME)."),
-    workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (default: one per core; 0: run inline)."),
-    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address, e.g. tcp://host:8786."),
-    connect_timeout: float = typer.Option(DEFAULT_CONNECT_TIMEOUT_S, "--connect-timeout", help="Seconds to reach the scheduler."),
+    campaign: str = typer.Argument(
+        ..., help="Campaign file (TOML) or built-in name (see `imil campaign list`)."
+    ),
+    out: Path | None = typer.Option(None, "-o", "--out", help="Campaign folder (default: campaign-NAME)."),
+    workers: int | None = typer.Option(
+        None, "--workers", help="Local worker processes (default: one per core; 0: run inline)."
+    ),
+    scheduler: str | None = typer.Option(
+        None, "--scheduler", help="Dask scheduler address, e.g. tcp://host:8786."
+    ),
+    connect_timeout: float = typer.Option(
+        DEFAULT_CONNECT_TIMEOUT_S, "--connect-timeout", help="Seconds to reach the scheduler."
+    ),
     max_runs: int = typer.Option(DEFAULT_MAX_RUNS, "--max-runs", help="Refuse campaigns with more runs."),
     reduced: bool = typer.Option(False, "--reduced", help="Run the reduced (CI) version of the campaign."),
-    overrides: Optional[List[str]] = typer.Option(None, "--set", help="Base setting KEY=VALUE (repeatable)."),
+    overrides: list[str] | None = typer.Option(None, "--set", help="Base setting KEY=VALUE (repeatable)."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON, no progress bar."),
 ) -> None:
     """Run a campaign; runs already done in the folder are skipped (resume)."""
@@ -54,30 +69,49 @@ def run(
         with executor:
             result = _run_with_progress(spec, folder, executor, quiet=as_json)
     except KeyboardInterrupt:
-        print(f"imil: interrupted; finished runs are kept in {folder}; run the same command to resume",
-              file=sys.stderr)
+        print(
+            f"imil: interrupted; finished runs are kept in {folder}; run the same command to resume",
+            file=sys.stderr,
+        )
         raise typer.Exit(EXIT_INTERRUPTED) from None
     counts = {s: result.count(s) for s in ("ok", "aborted", "failed")}
     if as_json:
-        print_json({"campaign": spec.name, "folder": str(folder), "runs": len(spec.runs),
-                    "executed": len(result.executed), "skipped": len(result.skipped), **counts,
-                    "summary_csv": str(result.summary.csv),
-                    "summary_parquet": str(result.summary.parquet or "")})
+        print_json(
+            {
+                "campaign": spec.name,
+                "folder": str(folder),
+                "runs": len(spec.runs),
+                "executed": len(result.executed),
+                "skipped": len(result.skipped),
+                **counts,
+                "summary_csv": str(result.summary.csv),
+                "summary_parquet": str(result.summary.parquet or ""),
+            }
+        )
         return
-    console.print(f"{spec.name}: {len(spec.runs)} runs, {len(result.executed)} executed, "
-                  f"{len(result.skipped)} already done; ok {counts['ok']}, aborted {counts['aborted']}, "
-                  f"failed {counts['failed']}")
+    console.print(
+        f"{spec.name}: {len(spec.runs)} runs, {len(result.executed)} executed, "
+        f"{len(result.skipped)} already done; ok {counts['ok']}, aborted {counts['aborted']}, "
+        f"failed {counts['failed']}"
+    )
     for record in result.records:
         if record.status == "failed":
             console.print(f"  failed {record.run_id}: {record.error}")
-    console.print(f"summary: {result.summary.csv}" + (f", {result.summary.parquet}" if result.summary.parquet else ""))
+    console.print(
+        f"summary: {result.summary.csv}" + (f", {result.summary.parquet}" if result.summary.parquet else "")
+    )
 
 
 def _run_with_progress(spec, folder: Path, executor, quiet: bool):
     if quiet:
         return run_campaign(spec, folder, executor)
-    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-               TextColumn("{task.fields[status]}"), TimeElapsedColumn())
+    columns = (
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("{task.fields[status]}"),
+        TimeElapsedColumn(),
+    )
     with Progress(*columns, console=console, transient=False) as progress:
         task = progress.add_task(f"{spec.name} ({executor.description})", total=None, status="")
 
@@ -95,15 +129,22 @@ def plan(
     campaign: str = typer.Argument(..., help="Campaign file or built-in name."),
     max_runs: int = typer.Option(DEFAULT_MAX_RUNS, "--max-runs", help="Refuse campaigns with more runs."),
     reduced: bool = typer.Option(False, "--reduced", help="Expand the reduced (CI) version."),
-    overrides: Optional[List[str]] = typer.Option(None, "--set", help="Base setting KEY=VALUE (repeatable)."),
+    overrides: list[str] | None = typer.Option(None, "--set", help="Base setting KEY=VALUE (repeatable)."),
     as_json: bool = typer.Option(False, "--json", help="Print the runs as JSON."),
 ) -> None:
     """Validate and expand a campaign without running it."""
     spec = _load(campaign, reduced, max_runs, overrides)
     if as_json:
-        print_json({"campaign": spec.name, "kind": spec.kind, "runs": [
-            {"run_id": r.run_id, "kind": r.kind, "studies": list(r.studies), "settings": r.settings}
-            for r in spec.runs]})
+        print_json(
+            {
+                "campaign": spec.name,
+                "kind": spec.kind,
+                "runs": [
+                    {"run_id": r.run_id, "kind": r.kind, "studies": list(r.studies), "settings": r.settings}
+                    for r in spec.runs
+                ],
+            }
+        )
         return
     table = Table(title=f"{spec.name} ({spec.kind}): {len(spec.runs)} runs")
     for column in ("run_id", "study", *spec.parameters):
@@ -125,8 +166,9 @@ def list_campaigns() -> None:
     for name, path in builtin_campaigns().items():
         spec = load_campaign(path)
         reduced = load_campaign(path, reduced=True)
-        console.print(f"{name:16s} {spec.kind:9s} {len(spec.runs):4d} runs "
-                      f"({len(reduced.runs)} reduced)  {spec.title}")
+        console.print(
+            f"{name:16s} {spec.kind:9s} {len(spec.runs):4d} runs ({len(reduced.runs)} reduced)  {spec.title}"
+        )
     console.print("kinds: " + ", ".join(f"{k} ({v.description})" for k, v in KINDS.items()))
 
 
@@ -137,13 +179,14 @@ def params(kind: str = typer.Argument(..., help="Campaign kind.")) -> None:
         console.print(f"{name:14s} {spec.describe():40s} {spec.help}")
 
 
-
 @app.command("report")
 def report(
-    folders: List[Path] = typer.Argument(..., help="Campaign folders (e.g. of report-sec4, -sec8, -sec9)."),
+    folders: list[Path] = typer.Argument(..., help="Campaign folders (e.g. of report-sec4, -sec8, -sec9)."),
     out: Path = typer.Option(Path("reproduction.html"), "-o", "--out", help="HTML file to write."),
 ) -> None:
     """Write the self-contained reproduction report (the report's claims against the campaigns)."""
     result = write_reproduction_report(folders, out)
-    console.print(f"{out}: {len(result.outcomes)} claims: {result.agree} agree, "
-                  f"{result.disagree} disagree, {result.not_run} not run")
+    console.print(
+        f"{out}: {len(result.outcomes)} claims: {result.agree} agree, "
+        f"{result.disagree} disagree, {result.not_run} not run"
+    )

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
-from typing import Any, List, Optional
+from typing import Any
 
 from rich.console import Console
 
@@ -23,13 +23,14 @@ def print_json(data: Any) -> None:
     print(json.dumps(json_safe(data), indent=2))
 
 
-def table_parameters(table: Optional[Path], sets: Optional[List[str]] = None) -> TableParameters:
+def table_parameters(table: Path | None, sets: list[str] | None = None) -> TableParameters:
     """``--table`` (default report Table 4.1) with ``--set`` overrides (errors name the key or file)."""
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
 
 
-def positive_numbers(option: str, text: str, malformed: str, invalid: str,
-                     count: Optional[int] = None) -> list[float]:
+def positive_numbers(
+    option: str, text: str, malformed: str, invalid: str, count: int | None = None
+) -> list[float]:
     """``"80,100,250"`` -> ``[80.0, 100.0, 250.0]``: comma-separated positive finite numbers.
 
     Raises
@@ -43,7 +44,10 @@ def positive_numbers(option: str, text: str, malformed: str, invalid: str,
         values = [float(part) for part in text.split(",") if part.strip()]
     except ValueError:
         raise ConfigError(option, malformed, text) from None
-    if not values or (count is not None and len(values) != count) or \
-            not all(v > 0 and math.isfinite(v) for v in values):
+    if (
+        not values
+        or (count is not None and len(values) != count)
+        or not all(v > 0 and math.isfinite(v) for v in values)
+    ):
         raise ConfigError(option, invalid, text)
     return values

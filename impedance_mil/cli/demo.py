@@ -32,8 +32,15 @@ from ..plant import LinearTable, TableParameters
 from ..report import table_plots
 from ..systems import pole_table
 from .common import console
-from .runopts import (DEFAULT_FC_HZ, DEFAULT_MOTION, DEFAULT_TIME_SCALE, EXIT_INTERRUPTED, err_console,
-                      output_path, percent)
+from .runopts import (
+    DEFAULT_FC_HZ,
+    DEFAULT_MOTION,
+    DEFAULT_TIME_SCALE,
+    EXIT_INTERRUPTED,
+    err_console,
+    output_path,
+    percent,
+)
 from .simulate import Outcome, build_request, check, perform, print_outcome, warn
 
 #: Length of the motion with ``--quick`` [s] (the first seconds, strong shaking included).
@@ -55,9 +62,14 @@ def table_summary(p: TableParameters) -> list[str]:
     lines += [f"  {key:22s} {value}" for key, value in p.to_dict().items()]
     for delay in ("none", "first-order", "sampled"):
         tbl = LinearTable(p, delay=delay)
-        lines.append(f"closed-loop poles, delay model '{delay}' (stable: {'yes' if tbl.is_stable() else 'NO'}):")
-        lines += [f"  {row['frequency_hz']:9.2f} Hz  zeta {row['damping']:7.3f}  "
-                  f"({row['real']:.1f} {row['imag']:+.1f}j rad/s)" for row in pole_table(tbl.poles())]
+        lines.append(
+            f"closed-loop poles, delay model '{delay}' (stable: {'yes' if tbl.is_stable() else 'NO'}):"
+        )
+        lines += [
+            f"  {row['frequency_hz']:9.2f} Hz  zeta {row['damping']:7.3f}  "
+            f"({row['real']:.1f} {row['imag']:+.1f}j rad/s)"
+            for row in pole_table(tbl.poles())
+        ]
     return lines
 
 
@@ -77,16 +89,21 @@ def table_section(p: TableParameters, out: Path) -> list[Path]:
 def closing_lines(outcome: Outcome) -> list[str]:
     """What the default test showed, and what to run next."""
     doc = outcome.document
-    lines = [f"key metrics: spectral error 0.25-15 Hz {percent(doc['spectral_error_0p25_15hz'])}, "
-             f"15-50 Hz {percent(doc['spectral_error_15_50hz'])}, NRMS {percent(doc['nrms_error'])}, "
-             f"simulated {doc['simulated_s']:.2f} s" + (" (stopped by a safety interlock)" if doc["aborted"] else "")]
+    lines = [
+        f"key metrics: spectral error 0.25-15 Hz {percent(doc['spectral_error_0p25_15hz'])}, "
+        f"15-50 Hz {percent(doc['spectral_error_15_50hz'])}, NRMS {percent(doc['nrms_error'])}, "
+        f"simulated {doc['simulated_s']:.2f} s"
+        + (" (stopped by a safety interlock)" if doc["aborted"] else "")
+    ]
     basemat = outcome.pre.basemat
     if doc["aborted"] and basemat is not None and not basemat.check("stroke").ok:
         stroke = basemat.check("stroke")
         pga = math.floor(10.0 * outcome.request.motion.motion.pga_g * stroke.limit / stroke.peak) / 10.0
-        lines.append(f"The report ran this test on its table (Figure 9-5).  In the virtual lab the SD2 basemat, "
-                     f"which the table must follow, moves {stroke.peak:.2f} in: more than the {stroke.limit:g} in "
-                     f"stroke interlock.  A run that fits:")
+        lines.append(
+            f"The report ran this test on its table (Figure 9-5).  In the virtual lab the SD2 basemat, "
+            f"which the table must follow, moves {stroke.peak:.2f} in: more than the {stroke.limit:g} in "
+            f"stroke interlock.  A run that fits:"
+        )
         lines.append(f"  .venv/bin/imil simulate --pga {pga:g} -o sd2-{pga:g}g.h5 --report sd2-{pga:g}g.html")
     return lines
 
@@ -105,23 +122,42 @@ def default_test(request, out: Path) -> Outcome:
     return outcome
 
 
-def demo(out: Path = typer.Option(Path("demo-output"), "--out", help="Output folder (created)."),
-         quick: bool = typer.Option(False, "--quick", help=f"Run only the first {QUICK_DURATION_S:g} s of "
-                                    "the motion (for tests).")) -> None:
+def demo(
+    out: Path = typer.Option(Path("demo-output"), "--out", help="Output folder (created)."),
+    quick: bool = typer.Option(
+        False, "--quick", help=f"Run only the first {QUICK_DURATION_S:g} s of the motion (for tests)."
+    ),
+) -> None:
     """The report's default configuration end to end: table model, MIL controller, virtual test, HTML report."""
     start = time.perf_counter()
-    request = build_request(vs=DEMO_VS, table=None, sets=None, specimen="vessel", water_depth=None,
-                            specimen_weight=None, sets_vs=None, motion=DEFAULT_MOTION, units="g",
-                            time_scale=DEFAULT_TIME_SCALE, pga=DEMO_PGA_G, duration=QUICK_DURATION_S if quick else None,
-                            fc=DEFAULT_FC_HZ, feedback="lc", precision="single", seed=0)
+    request = build_request(
+        vs=DEMO_VS,
+        table=None,
+        sets=None,
+        specimen="vessel",
+        water_depth=None,
+        specimen_weight=None,
+        sets_vs=None,
+        motion=DEFAULT_MOTION,
+        units="g",
+        time_scale=DEFAULT_TIME_SCALE,
+        pga=DEMO_PGA_G,
+        duration=QUICK_DURATION_S if quick else None,
+        fc=DEFAULT_FC_HZ,
+        feedback="lc",
+        precision="single",
+        seed=0,
+    )
     out.mkdir(parents=True, exist_ok=True)
     try:
         _say("== 1. The shake table (report Section 4, Table 4.1) ==")
         written = table_section(request.params, out)
         _say("")
-        _say(f"== 2-3. The default MIL controller and test (Sections 6, 9.3): SD2, El Centro x2 at {DEMO_PGA_G:g} g "
-             "(Table 8.1's 0.8 g exceeds the stroke with SD2: docs/errata.md), "
-             "36 in of water, load-cell feedback ==")
+        _say(
+            f"== 2-3. The default MIL controller and test (Sections 6, 9.3): SD2, El Centro x2 at {DEMO_PGA_G:g} g "
+            "(Table 8.1's 0.8 g exceeds the stroke with SD2: docs/errata.md), "
+            "36 in of water, load-cell feedback =="
+        )
         outcome = default_test(request, out)
     except KeyboardInterrupt:
         err_console.print(f"imil: interrupted; the files completed so far are in {out}", markup=False)
@@ -130,5 +166,7 @@ def demo(out: Path = typer.Option(Path("demo-output"), "--out", help="Output fol
     _say(f"== Files in {out} ==")
     for path in written + outcome.written.paths:
         _say(f"  {path}")
-    _say(f"open {out / 'run.html'} in a browser for the run's histories, spectra and isolator loop; "
-         f"demo finished in {time.perf_counter() - start:.1f} s")
+    _say(
+        f"open {out / 'run.html'} in a browser for the run's histories, spectra and isolator loop; "
+        f"demo finished in {time.perf_counter() - start:.1f} s"
+    )

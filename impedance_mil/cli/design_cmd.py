@@ -15,7 +15,6 @@ impossible design (one line on stderr, nothing written).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Optional
 
 import typer
 
@@ -27,57 +26,69 @@ from ..design.filters import FAMILIES
 from ..design.forms import FORMS
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..errors import ConfigError
-from ..specimens import FluidVessel
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
+from ..specimens import FluidVessel
 from ..virtual.files import resolve
 from .common import console, positive_numbers, print_json, table_parameters
-
 
 #: Water depths of the report's vessel [in] (Sections 4.5, 8, 9) for the coupled-stability check.
 VESSEL_DEPTHS_IN = (0.0, 18.0, 30.0, 36.0, 42.0)
 
 
-def _parse_fc(text: str) -> Optional[list[float]]:
+def _parse_fc(text: str) -> list[float] | None:
     """``"auto"`` -> None; ``"80"`` or ``"80,100,250"`` -> list of positive floats [Hz]."""
     if text.strip().lower() == "auto":
         return None
-    return positive_numbers("--fc", text, "a cut-off in Hz, a comma-separated list, or 'auto'",
-                            "positive cut-off frequencies in Hz")
+    return positive_numbers(
+        "--fc",
+        text,
+        "a cut-off in Hz, a comma-separated list, or 'auto'",
+        "positive cut-off frequencies in Hz",
+    )
 
 
-def _parse_list(option: str, text: Optional[str], count: Optional[int] = None) -> Optional[list[float]]:
+def _parse_list(option: str, text: str | None, count: int | None = None) -> list[float] | None:
     if text is None:
         return None
-    return positive_numbers(option, text, "comma-separated numbers",
-                            f"{count or 'some'} positive comma-separated numbers", count)
+    return positive_numbers(
+        option, text, "comma-separated numbers", f"{count or 'some'} positive comma-separated numbers", count
+    )
 
 
 def design(
-    table: Optional[Path] = typer.Option(None, "--table", help="Table file (TOML); default the report's table."),
-    vs: Optional[str] = typer.Option(None, "--vs", help="VS preset (SD1..FP3) or VS file (TOML)."),
-    sets: Optional[List[str]] = typer.Option(None, "--set", help="Table value KEY=VALUE."),
-    sets_vs: Optional[List[str]] = typer.Option(None, "--set-vs", help="VS value KEY=VALUE."),
-    form: str = typer.Option("standardized", "--form", help="standardized | vs-specific | tracking | general."),
+    table: Path | None = typer.Option(None, "--table", help="Table file (TOML); default the report's table."),
+    vs: str | None = typer.Option(None, "--vs", help="VS preset (SD1..FP3) or VS file (TOML)."),
+    sets: list[str] | None = typer.Option(None, "--set", help="Table value KEY=VALUE."),
+    sets_vs: list[str] | None = typer.Option(None, "--set-vs", help="VS value KEY=VALUE."),
+    form: str = typer.Option(
+        "standardized", "--form", help="standardized | vs-specific | tracking | general."
+    ),
     fc: str = typer.Option("80", "--fc", help="Cut-off [Hz]: 80, 80,100,250 (first is the design) or auto."),
-    fc_w: Optional[float] = typer.Option(None, "--fc-w", help="Separate cut-off of the w path [Hz]."),
+    fc_w: float | None = typer.Option(None, "--fc-w", help="Separate cut-off of the w path [Hz]."),
     family: str = typer.Option("butterworth", "--filter", help="butterworth | bessel | chebyshev1."),
-    order: Optional[int] = typer.Option(None, "--order", help="Filter order (default: the relative degree)."),
+    order: int | None = typer.Option(None, "--order", help="Filter order (default: the relative degree)."),
     ripple_db: float = typer.Option(0.5, "--ripple-db", help="Chebyshev I pass-band ripple [dB]."),
-    band: Optional[str] = typer.Option(None, "--band", help="Band of interest LO,HI [Hz] (default 0.25,15)."),
-    performance_max: float = typer.Option(HALF_POWER_ERROR, "--performance-max",
-                                          help="Constraint I limit (relative impedance error)."),
+    band: str | None = typer.Option(None, "--band", help="Band of interest LO,HI [Hz] (default 0.25,15)."),
+    performance_max: float = typer.Option(
+        HALF_POWER_ERROR, "--performance-max", help="Constraint I limit (relative impedance error)."
+    ),
     effort_max: float = typer.Option(1.0, "--effort-max", help="Constraint II limit (HF/in-band gain)."),
     passivity_tol: float = typer.Option(0.0, "--passivity-tol", help="Extra passivity tolerance [deg]."),
-    mass_ratios: Optional[str] = typer.Option(None, "--mass-ratios",
-                                              help="Basemat-mass study: m_vs/m_st values, e.g. 1.25,1,0.8."),
-    linearization: str = typer.Option("describing-function", "--linearization",
-                                      help="LR/FP in the constraints: " + " | ".join(METHODS) + "."),
-    amplitude: float = typer.Option(DEFAULT_AMPLITUDE_IN, "--amplitude",
-                                    help="Design displacement amplitude of the LR/FP isolator [in]."),
+    mass_ratios: str | None = typer.Option(
+        None, "--mass-ratios", help="Basemat-mass study: m_vs/m_st values, e.g. 1.25,1,0.8."
+    ),
+    linearization: str = typer.Option(
+        "describing-function",
+        "--linearization",
+        help="LR/FP in the constraints: " + " | ".join(METHODS) + ".",
+    ),
+    amplitude: float = typer.Option(
+        DEFAULT_AMPLITUDE_IN, "--amplitude", help="Design displacement amplitude of the LR/FP isolator [in]."
+    ),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
-    plots: Optional[Path] = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
-    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
+    plots: Path | None = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
+    output: Path | None = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
 ) -> None:
     """Design the impedance-matching MIL controller and check constraints I, II, III."""
     if form not in FORMS:
@@ -90,9 +101,12 @@ def design(
         raise ConfigError("-o", "a path in an existing folder", str(output))
     fcs = _parse_fc(fc)
     band_values = _parse_list("--band", band, 2)
-    criteria = DesignCriteria(band_hz=tuple(band_values) if band_values else (0.25, 15.0),
-                              performance_max=performance_max, effort_ratio_max=effort_max,
-                              passivity_extra_tolerance_deg=passivity_tol)
+    criteria = DesignCriteria(
+        band_hz=tuple(band_values) if band_values else (0.25, 15.0),
+        performance_max=performance_max,
+        effort_ratio_max=effort_max,
+        passivity_extra_tolerance_deg=passivity_tol,
+    )
     ratios = _parse_list("--mass-ratios", mass_ratios)
     params = table_parameters(table, sets)
     tm = table_model(params)
@@ -113,32 +127,67 @@ def design(
         fcs, reasons, scan = [choice.fc_hz], list(choice.reasons), choice.scan
     else:
         reasons, scan = [], scan_fc(tm, vm, **kw)
-    result = design_controller(tm, vm, fc_hz=fcs[0], evaluate_fc_hz=fcs[1:], fc_w_hz=fc_w,
-                               ripple_db=ripple_db, feasible_fc_hz=scan.feasible_fc_hz,
-                               emit_warnings=False, **kw)
+    result = design_controller(
+        tm,
+        vm,
+        fc_hz=fcs[0],
+        evaluate_fc_hz=fcs[1:],
+        fc_w_hz=fc_w,
+        ripple_db=ripple_db,
+        feasible_fc_hz=scan.feasible_fc_hz,
+        emit_warnings=False,
+        **kw,
+    )
     study = []
     if ratios:
         if spec is None:
             raise ConfigError("--mass-ratios", "a VS (--vs) and a form other than tracking")
         vessels = {f"vessel {d} in": FluidVessel(d).impedance() for d in VESSEL_DEPTHS_IN}
-        study = [c.to_dict() for c in mass_ratio_study(tm, lambda m: virtual_model(
-                     resolve(vs, {**parse_overrides(sets_vs, option="--set-vs"), "m_vs": m}).vs, spec.name, **lin),
-                     ratios, form=form, criteria=criteria, design_fc_hz=fcs[0], specimens=vessels)]
+        study = [
+            c.to_dict()
+            for c in mass_ratio_study(
+                tm,
+                lambda m: virtual_model(
+                    resolve(vs, {**parse_overrides(sets_vs, option="--set-vs"), "m_vs": m}).vs,
+                    spec.name,
+                    **lin,
+                ),
+                ratios,
+                form=form,
+                criteria=criteria,
+                design_fc_hz=fcs[0],
+                specimens=vessels,
+            )
+        ]
     written = []
     if plots is not None:
-        rows = fcs if len(fcs) > 1 else sorted({*([scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]]
-                                                  if scan.feasible_fc_hz else []), fcs[0]})
+        rows = (
+            fcs
+            if len(fcs) > 1
+            else sorted(
+                {*([scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]] if scan.feasible_fc_hz else []), fcs[0]}
+            )
+        )
         label = f"{form} controller, {spec.name if spec else 'tracking'}"
-        written.append(save_figure(plot_design_rows(tm, vm, rows, form=form, family=family, order=order,
-                                                    title=label), plots / "design_fig931.png"))
-        written.append(save_figure(plot_constraint_summary(scan.results, criteria, scan.feasible_fc_hz,
-                                                           title=label), plots / "design_constraints.png"))
+        written.append(
+            save_figure(
+                plot_design_rows(tm, vm, rows, form=form, family=family, order=order, title=label),
+                plots / "design_fig931.png",
+            )
+        )
+        written.append(
+            save_figure(
+                plot_constraint_summary(scan.results, criteria, scan.feasible_fc_hz, title=label),
+                plots / "design_constraints.png",
+            )
+        )
     if output is not None:
         written.append(save_design(result, output))
     doc = result.to_json()
     doc["fc_choice_reasons"] = reasons
-    doc["vs_linearization"] = (vm.equivalent.to_dict() if vm is not None and vm.equivalent is not None
-                               else None)
+    doc["vs_linearization"] = (
+        vm.equivalent.to_dict() if vm is not None and vm.equivalent is not None else None
+    )
     if study:
         doc["mass_ratio_study"] = study
     if json_out:
@@ -148,9 +197,11 @@ def design(
 
 
 def _print_human(result, reasons, study, written) -> None:
-    console.print(f"[bold]{result.form}[/] controller, fc = {result.fc_hz:.4g} Hz, {result.filter.family} "
-                  f"filters of order {result.filter.order_z} (z) / {result.filter.order_w} (w); "
-                  f"u = H_uz*{result.reference} + H_uw*w" + (" + H_ufh*f_h" if result.H_ufh is not None else ""))
+    console.print(
+        f"[bold]{result.form}[/] controller, fc = {result.fc_hz:.4g} Hz, {result.filter.family} "
+        f"filters of order {result.filter.order_z} (z) / {result.filter.order_w} (w); "
+        f"u = H_uz*{result.reference} + H_uw*w" + (" + H_ufh*f_h" if result.H_ufh is not None else "")
+    )
     for name, H in (("H_uz", result.H_uz), ("H_uw", result.H_uw), ("H_ufh", result.H_ufh)):
         if H is not None:
             console.print(f"  {name}: num = [{', '.join(f'{c:.4g}' for c in H.num)}]")
@@ -158,21 +209,26 @@ def _print_human(result, reasons, study, written) -> None:
     console.print("  fc [Hz]    I  perf.err   II  effort    III  margin deg (tolerant)")
     for c in result.constraints:
         mark = {True: "ok", False: "NO"}
-        console.print(f"  {c.fc_hz:8.4g}  {mark[c.I]:>3} {c.performance_error:8.3f}  {mark[c.II]:>3} "
-                      f"{c.effort_ratio:8.3g}  {mark[c.III]:>3} {c.passivity_margin_deg:8.2f} "
-                      f"({c.passivity_tolerant_margin_deg:.2f})")
+        console.print(
+            f"  {c.fc_hz:8.4g}  {mark[c.I]:>3} {c.performance_error:8.3f}  {mark[c.II]:>3} "
+            f"{c.effort_ratio:8.3g}  {mark[c.III]:>3} {c.passivity_margin_deg:8.2f} "
+            f"({c.passivity_tolerant_margin_deg:.2f})"
+        )
     feas = result.feasible_fc_hz
     console.print("  feasible fc: " + (f"{feas[0]:.4g}-{feas[1]:.4g} Hz" if feas else "none on the grid"))
     for text in reasons:
         console.print(f"  auto: {text}")
     for row in study:
         r = row["feasible_fc_hz"]
-        console.print(f"  m_vs/m_st = {row['mass_ratio']:g}: feasible fc "
-                      + (f"{r[0]:.4g}-{r[1]:.4g} Hz" if r else "none")
-                      + f"; at {row['design_fc_hz']:g} Hz passive: {row['passive_at_design_fc']} "
-                      f"(margin {row['passivity_margin_deg']:.2f} deg); coupled stable with "
-                      + ", ".join(f"{c['specimen']}: {c['stable']} (zeta {c['hf_damping_ratio']:.3f})"
-                                  for c in row["coupled"]))
+        console.print(
+            f"  m_vs/m_st = {row['mass_ratio']:g}: feasible fc "
+            + (f"{r[0]:.4g}-{r[1]:.4g} Hz" if r else "none")
+            + f"; at {row['design_fc_hz']:g} Hz passive: {row['passive_at_design_fc']} "
+            f"(margin {row['passivity_margin_deg']:.2f} deg); coupled stable with "
+            + ", ".join(
+                f"{c['specimen']}: {c['stable']} (zeta {c['hf_damping_ratio']:.3f})" for c in row["coupled"]
+            )
+        )
     for text in result.warnings:
         console.print(f"[yellow]warning:[/] {text}")
     for path in written:

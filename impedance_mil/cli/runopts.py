@@ -16,15 +16,23 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Iterator, List, Mapping, Optional
+from typing import Any
 
 import h5py
 import numpy as np
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    SpinnerColumn,
+    TextColumn,
+    TimeElapsedColumn,
+)
 
 from ..campaign.motions import REPORT_MOTIONS, TIME_SCALE
 from ..config import quantity, read_toml
@@ -61,16 +69,24 @@ DEFAULT_WATER_DEPTH_IN = 36.0
 FEEDBACK = {"lc": ("lc", True), "fe": ("fe", True), "none": ("lc", False)}
 
 #: Unit of the value a trip reports, by limit (lab.results.Trip).
-TRIP_UNITS = {"stroke": "in", "velocity": "in/s", "actuator_force": "lbf",
-              "valve_saturation": "V", "divergence": "in", "nan": ""}
+TRIP_UNITS = {
+    "stroke": "in",
+    "velocity": "in/s",
+    "actuator_force": "lbf",
+    "valve_saturation": "V",
+    "divergence": "in",
+    "nan": "",
+}
 
 #: Root attribute of a run file holding the command's summary (JSON).
 SUMMARY_ATTR = "imil_summary_json"
 #: HDF5 group holding the command's extra arrays.
 SUMMARY_GROUP = "imil"
 
-SPECIMEN_HELP = ("vessel (Section 3.2), rigid (a rigid mass of --specimen-weight), none (bare table) "
-                 "or a specimen file (TOML, [specimen] table as in docs/specimens.md).")
+SPECIMEN_HELP = (
+    "vessel (Section 3.2), rigid (a rigid mass of --specimen-weight), none (bare table) "
+    "or a specimen file (TOML, [specimen] table as in docs/specimens.md)."
+)
 
 
 class MotionRefused(ImilError, ValueError):
@@ -117,14 +133,20 @@ class MotionChoice:
     motion: GroundMotion
     argument: str
     time_scale: float
-    pga_g: Optional[float]
-    duration_s: Optional[float]
+    pga_g: float | None
+    duration_s: float | None
 
     def to_dict(self) -> dict:
-        return {"argument": self.argument, "name": self.motion.name, "source": self.motion.source,
-                "time_scale": self.time_scale, "pga_g": self.motion.pga_g,
-                "duration_s": self.motion.duration, "trimmed_to_s": self.duration_s,
-                "time_step_s": self.motion.time_step}
+        return {
+            "argument": self.argument,
+            "name": self.motion.name,
+            "source": self.motion.source,
+            "time_scale": self.time_scale,
+            "pga_g": self.motion.pga_g,
+            "duration_s": self.motion.duration,
+            "trimmed_to_s": self.duration_s,
+            "time_step_s": self.motion.time_step,
+        }
 
 
 @dataclass(frozen=True)
@@ -144,11 +166,10 @@ class Pretest:
 
     limits: TableLimits
     input: MotionCheck
-    basemat: Optional[MotionCheck] = None
+    basemat: MotionCheck | None = None
 
     def to_dict(self) -> dict:
-        out = {"moving_weight_lbf": self.limits.moving_mass * G0,
-               "input": check_dict(self.input)}
+        out = {"moving_weight_lbf": self.limits.moving_mass * G0, "input": check_dict(self.input)}
         if self.basemat is not None:
             out["basemat_predicted"] = check_dict(self.basemat)
         return out
@@ -158,11 +179,11 @@ class Pretest:
 class Written:
     """Files a command wrote (in order), for the closing message."""
 
-    paths: List[Path] = field(default_factory=list)
+    paths: list[Path] = field(default_factory=list)
 
 
 # ------------------------------------------------------------------ parsing
-def specimen_choice(text: str, water_depth: Optional[str], weight: Optional[str]) -> SpecimenChoice:
+def specimen_choice(text: str, water_depth: str | None, weight: str | None) -> SpecimenChoice:
     """Resolve ``--specimen`` with ``--water-depth`` [in] or ``--specimen-weight`` [lbf]."""
     key = text.strip().lower()
     if water_depth is not None and key != "vessel":
@@ -172,14 +193,20 @@ def specimen_choice(text: str, water_depth: Optional[str], weight: Optional[str]
     if key == "none":
         return SpecimenChoice(None, "bare table", 0.0)
     if key == "vessel":
-        depth = quantity("--water-depth", DEFAULT_WATER_DEPTH_IN if water_depth is None else water_depth,
-                         "inch", "nonnegative")
+        depth = quantity(
+            "--water-depth",
+            DEFAULT_WATER_DEPTH_IN if water_depth is None else water_depth,
+            "inch",
+            "nonnegative",
+        )
         vessel = FluidVessel(water_depth_in=depth)
-        return SpecimenChoice(vessel, f"vessel with {depth:g} in of water ({vessel.total_weight:.0f} lb)",
-                              vessel.total_weight)
+        return SpecimenChoice(
+            vessel, f"vessel with {depth:g} in of water ({vessel.total_weight:.0f} lb)", vessel.total_weight
+        )
     if key == "rigid":
-        lbf = quantity("--specimen-weight", TEST_ARTICLE_WEIGHT if weight is None else weight,
-                       "force_pound", "positive")
+        lbf = quantity(
+            "--specimen-weight", TEST_ARTICLE_WEIGHT if weight is None else weight, "force_pound", "positive"
+        )
         return SpecimenChoice(RigidMass(lbf), f"rigid mass of {lbf:.0f} lb", lbf)
     path = Path(text)
     if not path.is_file():
@@ -189,12 +216,16 @@ def specimen_choice(text: str, water_depth: Optional[str], weight: Optional[str]
     if not isinstance(table, Mapping):
         raise DataFileError(path, "expected a [specimen] table")
     specimen = specimen_from_config(table, where=f"{path.name}: specimen.")
-    return SpecimenChoice(specimen, f"{type(specimen).__name__} from {path.name} "
-                          f"({specimen.total_weight:.0f} lb)", float(specimen.total_weight))
+    return SpecimenChoice(
+        specimen,
+        f"{type(specimen).__name__} from {path.name} ({specimen.total_weight:.0f} lb)",
+        float(specimen.total_weight),
+    )
 
 
-def motion_choice(argument: str, units: str, time_scale: float, pga: Optional[float],
-                  duration: Optional[float]) -> MotionChoice:
+def motion_choice(
+    argument: str, units: str, time_scale: float, pga: float | None, duration: float | None
+) -> MotionChoice:
     """Resolve ``--motion`` with its scaling; the default PGA is Table 8.1's for El Centro (GM1)."""
     if pga is None and argument.strip().lower() == DEFAULT_MOTION:
         pga = DEFAULT_PGA_G
@@ -210,8 +241,11 @@ def feedback_choice(text: str, allow_none: bool) -> tuple[str, bool]:
     """``--feedback lc|fe|none`` -> (lab feedback channel, compensate with u_w)."""
     key = text.strip().lower()
     if key not in FEEDBACK or (key == "none" and not allow_none):
-        choices = "lc, fe or none" if allow_none else \
-            "lc or fe (a MIL run feeds the measured force to the VS; 'none' is for imil track)"
+        choices = (
+            "lc, fe or none"
+            if allow_none
+            else "lc or fe (a MIL run feeds the measured force to the VS; 'none' is for imil track)"
+        )
         raise ConfigError("--feedback", choices, text)
     return FEEDBACK[key]
 
@@ -223,7 +257,7 @@ def check_choice(option: str, value: str, choices: tuple[str, ...]) -> str:
     return value
 
 
-def output_path(option: str, path: Optional[Path], overwrite: bool) -> Optional[Path]:
+def output_path(option: str, path: Path | None, overwrite: bool) -> Path | None:
     """Check an output path before anything runs: its folder exists, and it is new or ``--overwrite``."""
     if path is None:
         return None
@@ -241,20 +275,30 @@ def output_path(option: str, path: Optional[Path], overwrite: bool) -> Optional[
 # ------------------------------------------------------------------ pre-test check
 def check_dict(check: MotionCheck) -> dict:
     """JSON form of a :class:`MotionCheck`."""
-    return {"ok": check.ok, "exceeded": check.exceeded,
-            "checks": [{"name": c.name, "peak": c.peak, "limit": c.limit, "unit": c.unit, "ok": c.ok,
-                        "time_s": c.time_s} for c in check.checks],
-            "suggested_time_scale": check.suggested_time_scale, "max_pga_g": check.max_pga_g}
+    return {
+        "ok": check.ok,
+        "exceeded": check.exceeded,
+        "checks": [
+            {"name": c.name, "peak": c.peak, "limit": c.limit, "unit": c.unit, "ok": c.ok, "time_s": c.time_s}
+            for c in check.checks
+        ],
+        "suggested_time_scale": check.suggested_time_scale,
+        "max_pga_g": check.max_pga_g,
+    }
 
 
 def overruns(check: MotionCheck) -> str:
     """``"stroke 9.70 in > 3.2 in at t = 5.10 s, ..."`` for the exceeded limits."""
-    return ", ".join(f"{c.name} {c.peak:.3g} {c.unit} > {c.limit:.3g} {c.unit} at t = {c.time_s:.2f} s"
-                     for c in check.checks if not c.ok)
+    return ", ".join(
+        f"{c.name} {c.peak:.3g} {c.unit} > {c.limit:.3g} {c.unit} at t = {c.time_s:.2f} s"
+        for c in check.checks
+        if not c.ok
+    )
 
 
-def basemat_check(vs, motion: GroundMotion, params: TableParameters, limits: TableLimits,
-                  specimen: SpecimenChoice) -> MotionCheck:
+def basemat_check(
+    vs, motion: GroundMotion, params: TableParameters, limits: TableLimits, specimen: SpecimenChoice
+) -> MotionCheck:
     """Stroke and velocity the table needs to follow the VS basemat in a MIL run (a prediction).
 
     The basemat's absolute acceleration comes from the VS model carrying the
@@ -269,15 +313,17 @@ def basemat_check(vs, motion: GroundMotion, params: TableParameters, limits: Tab
     response = rigid_article_response(vs, gm.accel, gm.time_step, weight_to_mass(specimen.weight_lbf))
     basemat = GroundMotion(gm.time_step, response.z_vs, "VS basemat")
     interlocks = SafetyLimits()
-    lab = replace(limits, stroke_in=min(limits.stroke_in, interlocks.stroke),
-                  velocity_in_s=min(limits.velocity_in_s, interlocks.velocity))
+    lab = replace(
+        limits,
+        stroke_in=min(limits.stroke_in, interlocks.stroke),
+        velocity_in_s=min(limits.velocity_in_s, interlocks.velocity),
+    )
     full = check_motion(basemat, lab, baseline_correct=False)
     checks = [full.check("stroke"), full.check("velocity")]
     return MotionCheck(all(c.ok for c in checks), checks, None, full.max_pga_g)
 
 
-def pretest(params: TableParameters, specimen: SpecimenChoice, motion: GroundMotion,
-            vs=None) -> Pretest:
+def pretest(params: TableParameters, specimen: SpecimenChoice, motion: GroundMotion, vs=None) -> Pretest:
     """Check the input motion (and, with a VS, the predicted basemat motion) against the table."""
     limits = TableLimits.from_table(params, specimen_weight=specimen.weight_lbf)
     basemat = None if vs is None else basemat_check(vs, motion, params, limits, specimen)
@@ -295,28 +341,34 @@ def enforce_pretest(pre: Pretest, motion: MotionChoice, force: bool) -> list[str
         if not pre.input.check("force").ok:
             hint.append(f"--pga <= {pre.input.max_pga_g:.3f}")
         if not force:
-            raise MotionRefused(f"{text}; try {' or '.join(hint) or 'a smaller --pga'}, "
-                                "or --force to run it anyway (the interlocks will stop it)")
+            raise MotionRefused(
+                f"{text}; try {' or '.join(hint) or 'a smaller --pga'}, "
+                "or --force to run it anyway (the interlocks will stop it)"
+            )
         warnings.append(f"{text}; running anyway (--force)")
     if pre.basemat is not None and not pre.basemat.ok:
         stroke = pre.basemat.check("stroke")
         fit = ""
         if not stroke.ok:
             fit = f"; at about {motion.motion.pga_g * stroke.limit / stroke.peak:.2f} g it would fit"
-        warnings.append("the VS basemat motion the table must follow (specimen taken as rigid) "
-                        f"exceeds the lab's interlocks: {overruns(pre.basemat)}; the run will "
-                        f"probably be stopped{fit}")
+        warnings.append(
+            "the VS basemat motion the table must follow (specimen taken as rigid) "
+            f"exceeds the lab's interlocks: {overruns(pre.basemat)}; the run will "
+            f"probably be stopped{fit}"
+        )
     return warnings
 
 
 # ------------------------------------------------------------------ results
-def trip_text(run: RunResult) -> Optional[str]:
+def trip_text(run: RunResult) -> str | None:
     """``"limit 'stroke' tripped at t = 2.6500 s (value -3.001 in)"`` or None."""
     if run.trip is None:
         return None
     unit = TRIP_UNITS.get(run.trip.limit, "")
-    return (f"limit '{run.trip.limit}' tripped at t = {run.trip.time_s:.4f} s "
-            f"(value {run.trip.value:.4g}{' ' + unit if unit else ''})")
+    return (
+        f"limit '{run.trip.limit}' tripped at t = {run.trip.time_s:.4f} s "
+        f"(value {run.trip.value:.4g}{' ' + unit if unit else ''})"
+    )
 
 
 def run_summary(run: RunResult, metrics) -> dict:
@@ -327,14 +379,15 @@ def run_summary(run: RunResult, metrics) -> dict:
     """
     m = metrics.to_dict() if metrics is not None else {}
     n = run.n_samples
-    peak = (lambda name: float(np.max(np.abs(run.channels[name]))) if n else None)
+    peak = lambda name: float(np.max(np.abs(run.channels[name]))) if n else None
     return {
         "mode": run.mode,
         "simulated_s": n * run.loop_time,
         "aborted": run.trip is not None,
         "abort_reason": trip_text(run),
-        "trip": None if run.trip is None else {"limit": run.trip.limit, "time_s": run.trip.time_s,
-                                               "value": run.trip.value},
+        "trip": None
+        if run.trip is None
+        else {"limit": run.trip.limit, "time_s": run.trip.time_s, "value": run.trip.value},
         "spectral_error_0p25_15hz": m.get("spectral_error_low"),
         "spectral_error_15_50hz": m.get("spectral_error_high"),
         "nrms_error": m.get("nrms_error"),
@@ -346,27 +399,35 @@ def run_summary(run: RunResult, metrics) -> dict:
     }
 
 
-def write_run_file(run: RunResult, path: Path, summary: Mapping[str, Any],
-                   arrays: Optional[Mapping[str, Mapping[str, np.ndarray]]] = None) -> Path:
+def write_run_file(
+    run: RunResult,
+    path: Path,
+    summary: Mapping[str, Any],
+    arrays: Mapping[str, Mapping[str, np.ndarray]] | None = None,
+) -> Path:
     """Write the lab's run file plus the command's summary, atomically (``lab.results.save_run``).
 
     The summary is the root attribute :data:`SUMMARY_ATTR` (JSON, NaN as
     null); ``arrays`` are subgroups of the group :data:`SUMMARY_GROUP`.
     """
     groups = {SUMMARY_GROUP: dict(arrays)} if arrays else None
-    return save_run(run, path, extra_attrs={SUMMARY_ATTR: json.dumps(json_safe(summary))},
-                    extra_groups=groups)
+    return save_run(
+        run, path, extra_attrs={SUMMARY_ATTR: json.dumps(json_safe(summary))}, extra_groups=groups
+    )
 
 
-def read_summary(path: Path) -> tuple[Optional[dict], dict]:
+def read_summary(path: Path) -> tuple[dict | None, dict]:
     """The summary and arrays an ``imil`` command stored in a run file (``(None, {})`` for others)."""
     try:
         with h5py.File(path, "r") as fh:
             if SUMMARY_ATTR not in fh.attrs:
                 return None, {}
             group = fh.get(SUMMARY_GROUP, {})
-            arrays = {name: {key: np.asarray(data) for key, data in sub.items()}
-                      for name, sub in group.items() if isinstance(sub, h5py.Group)}
+            arrays = {
+                name: {key: np.asarray(data) for key, data in sub.items()}
+                for name, sub in group.items()
+                if isinstance(sub, h5py.Group)
+            }
             return json.loads(fh.attrs[SUMMARY_ATTR]), arrays
     except (OSError, ValueError) as exc:
         raise DataFileError(path, f"cannot read the run summary ({exc})") from None
@@ -395,7 +456,7 @@ def design_lines(design) -> list[str]:
     ] + [f"  note: {text}" for text in design.warnings if "violated at" not in text]
 
 
-def percent(value: Optional[float]) -> str:
+def percent(value: float | None) -> str:
     """A fraction as ``"5.36 %"`` (``"n/a"`` for None)."""
     return "n/a" if value is None else f"{100.0 * value:.2f} %"
 
@@ -405,7 +466,7 @@ err_console = Console(stderr=True, highlight=False, soft_wrap=True)
 
 
 @contextmanager
-def activity(enabled: bool, text: str, total: Optional[int] = None) -> Iterator:
+def activity(enabled: bool, text: str, total: int | None = None) -> Iterator:
     """A spinner (``total=None``) or a bar on stderr while the library works.
 
     Yields ``step(description, advance=0)``.  The compiled loop of the lab has
@@ -422,8 +483,7 @@ def activity(enabled: bool, text: str, total: Optional[int] = None) -> Iterator:
     with Progress(*columns, console=err_console, transient=True) as progress:
         task = progress.add_task(text, total=total)
 
-        def step(description: Optional[str] = None, advance: int = 0) -> None:
-            progress.update(task, description=description or progress.tasks[0].description,
-                            advance=advance)
+        def step(description: str | None = None, advance: int = 0) -> None:
+            progress.update(task, description=description or progress.tasks[0].description, advance=advance)
 
         yield step

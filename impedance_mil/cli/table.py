@@ -8,19 +8,24 @@ numbers in report units, or quantities with units) and ``--json``.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Optional
 
 import typer
 
 from ..plant import LinearTable, TableParameters
-from ..plant.tuning import (breakaway, first_order_validity_limit, labelled_poles, recommend_kp,
-                            stability_limit)
+from ..plant.tuning import (
+    breakaway,
+    first_order_validity_limit,
+    labelled_poles,
+    recommend_kp,
+    stability_limit,
+)
 from ..report import table_plots
 from ..systems import pole_table
 from .common import console, print_json, table_parameters
 
-app = typer.Typer(help="Shake-table model: parameters, poles, transfer functions, tuning.",
-                  no_args_is_help=True)
+app = typer.Typer(
+    help="Shake-table model: parameters, poles, transfer functions, tuning.", no_args_is_help=True
+)
 
 TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default: report Table 4.1.")
 SetOpt = typer.Option(None, "--set", help="Override KEY=VALUE (repeatable), e.g. Ke=4 or 'mass=1600 lb'.")
@@ -43,14 +48,18 @@ def _wrote(path: Path, as_json: bool) -> None:
 
 
 @app.command()
-def info(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
-         json: bool = JsonOpt) -> None:
+def info(table: Path | None = TableOpt, set: list[str] | None = SetOpt, json: bool = JsonOpt) -> None:
     """Parameters (internal units) and derived quantities."""
     p = table_parameters(table, set)
-    data = {"parameters": p.to_dict(), "derived": {
-        "omega_oil_rad_s": p.omega_oil, "bulk_modulus_psi": p.bulk_modulus,
-        "leakage_coefficient_in3_s_psi": p.leakage_coefficient,
-        "valve_flow_gain_in3_s_mA": p.valve_flow_gain}}
+    data = {
+        "parameters": p.to_dict(),
+        "derived": {
+            "omega_oil_rad_s": p.omega_oil,
+            "bulk_modulus_psi": p.bulk_modulus,
+            "leakage_coefficient_in3_s_psi": p.leakage_coefficient,
+            "valve_flow_gain_in3_s_mA": p.valve_flow_gain,
+        },
+    }
     if json:
         print_json(data)
         return
@@ -70,8 +79,13 @@ def _poles_rows(p: TableParameters, delay: str, pade_order: int) -> list[dict]:
 
 
 @app.command()
-def poles(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
-          json: bool = JsonOpt, delay: str = DelayOpt, pade_order: int = PadeOpt) -> None:
+def poles(
+    table: Path | None = TableOpt,
+    set: list[str] | None = SetOpt,
+    json: bool = JsonOpt,
+    delay: str = DelayOpt,
+    pade_order: int = PadeOpt,
+) -> None:
     """Closed-loop poles: frequency [Hz], damping [-], real/imag [rad/s]; reports instability."""
     p = table_parameters(table, set)
     rows = _poles_rows(p, delay, pade_order)
@@ -82,16 +96,22 @@ def poles(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
     _say(f"delay model: {delay}   stable: {'yes' if stable else 'NO'}")
     _say(f"{'pole':5s} {'f [Hz]':>9s} {'zeta':>8s} {'real [rad/s]':>14s} {'imag [rad/s]':>14s}")
     for row in rows:
-        _say(f"{row.get('label', ''):5s} {row['frequency_hz']:9.2f} {row['damping']:8.3f} "
-                      f"{row['real']:14.2f} {row['imag']:14.2f}")
+        _say(
+            f"{row.get('label', ''):5s} {row['frequency_hz']:9.2f} {row['damping']:8.3f} "
+            f"{row['real']:14.2f} {row['imag']:14.2f}"
+        )
 
 
 @app.command()
-def tf(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
-       json: bool = JsonOpt, delay: str = DelayOpt, pade_order: int = PadeOpt,
-       input: str = typer.Option("u", "--input", help="u (command [in]) or w (force [lbf])."),
-       output: str = typer.Option("z", "--output", help="z [in/s^2], x [in], v [in/s] or dp [psi]."),
-       ) -> None:
+def tf(
+    table: Path | None = TableOpt,
+    set: list[str] | None = SetOpt,
+    json: bool = JsonOpt,
+    delay: str = DelayOpt,
+    pade_order: int = PadeOpt,
+    input: str = typer.Option("u", "--input", help="u (command [in]) or w (force [lbf])."),
+    output: str = typer.Option("z", "--output", help="z [in/s^2], x [in], v [in/s] or dp [psi]."),
+) -> None:
     """Transfer function output/input: descending powers of s, monic denominator.
 
     With ``--delay sampled`` the discrete function in z is printed (with ``dt``).
@@ -110,30 +130,36 @@ def tf(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
 
 
 @app.command()
-def bode(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
-         json: bool = JsonOpt, delay: str = DelayOpt,
-         out: Path = typer.Option(Path("table-bode.png"), "-o", "--out", help="PNG file."),
-         fmin: float = typer.Option(0.1, "--fmin", help="Lowest frequency [Hz]."),
-         fmax: float = typer.Option(200.0, "--fmax", help="Highest frequency [Hz].")) -> None:
+def bode(
+    table: Path | None = TableOpt,
+    set: list[str] | None = SetOpt,
+    json: bool = JsonOpt,
+    delay: str = DelayOpt,
+    out: Path = typer.Option(Path("table-bode.png"), "-o", "--out", help="PNG file."),
+    fmin: float = typer.Option(0.1, "--fmin", help="Lowest frequency [Hz]."),
+    fmax: float = typer.Option(200.0, "--fmax", help="Highest frequency [Hz]."),
+) -> None:
     """Bode plots of the six transfer functions (PNG)."""
     p = table_parameters(table, set)
     _wrote(table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax), json)
 
 
 @app.command()
-def rlocus(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
-           json: bool = JsonOpt,
-           param: str = typer.Option("Ke", "--param", help="Ke, Kp or loop_time."),
-           upper: Optional[float] = typer.Option(None, "--max", help="Largest value (internal units)."),
-           out: Path = typer.Option(Path("table-rlocus.png"), "-o", "--out", help="PNG file.")) -> None:
+def rlocus(
+    table: Path | None = TableOpt,
+    set: list[str] | None = SetOpt,
+    json: bool = JsonOpt,
+    param: str = typer.Option("Ke", "--param", help="Ke, Kp or loop_time."),
+    upper: float | None = typer.Option(None, "--max", help="Largest value (internal units)."),
+    out: Path = typer.Option(Path("table-rlocus.png"), "-o", "--out", help="PNG file."),
+) -> None:
     """Root locus of the five poles for a K_e, K_p or loop-time sweep (PNG)."""
     p = table_parameters(table, set)
     _wrote(table_plots.save_root_locus(p, param, out, upper=upper), json)
 
 
 @app.command()
-def tune(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
-         json: bool = JsonOpt) -> None:
+def tune(table: Path | None = TableOpt, set: list[str] | None = SetOpt, json: bool = JsonOpt) -> None:
     """Stability limits, break-away points and the K_p maximizing oil-column damping."""
     p = table_parameters(table, set)
     analog = p.replace(loop_time=0.0)
@@ -145,7 +171,8 @@ def tune(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
         "Kp_limit": stability_limit(p, "Kp", 0.05),
         "Ke_breakaway_analog_Kp0": breakaway(analog.replace(Kp=0.0), "Ke", 100.0),
         "Kp_breakaway_analog": breakaway(analog, "Kp", 0.01),
-        "recommended_Kp": rec.Kp, "recommended_oil_damping": rec.damping,
+        "recommended_Kp": rec.Kp,
+        "recommended_oil_damping": rec.damping,
         "recommended_oil_frequency_hz": rec.frequency_hz,
         "first_order_delay_valid_up_to_s": limit,
         "stable": LinearTable(p).is_stable(),
@@ -158,5 +185,7 @@ def tune(table: Optional[Path] = TableOpt, set: Optional[List[str]] = SetOpt,
     for key, value in data.items():
         if key != "stable":
             _say(f"{key:34s} {fmt.get(value, value) if value is None else f'{value:.6g}'}")
-    _say("(report Section 4.4: Ke 6.7 V/in, Kp > 0.0035 V/psi, break-away Ke 39.3 / "
-         "Kp 0.0006; model optimum K_p differs from the printed 0.001, see docs/errata.md)")
+    _say(
+        "(report Section 4.4: Ke 6.7 V/in, Kp > 0.0035 V/psi, break-away Ke 39.3 / "
+        "Kp 0.0006; model optimum K_p differs from the printed 0.001, see docs/errata.md)"
+    )

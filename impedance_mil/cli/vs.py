@@ -11,7 +11,6 @@ Exit status: 0 on success; 2 for bad input (one line on stderr, nothing written)
 from __future__ import annotations
 
 import math
-from typing import List, Optional
 
 import numpy as np
 import typer
@@ -22,25 +21,33 @@ from ..report.vs_plots import plot_loops, save_figure
 from ..units import G0, in_s2_to_g
 from ..virtual import TEST_ARTICLE_WEIGHT, presets
 from ..virtual.excitation import harmonic_ground_motion, rigid_article_response
-from ..virtual.files import VSSpec, describe as describe_spec, resolve
+from ..virtual.files import VSSpec, resolve
+from ..virtual.files import describe as describe_spec
 from .common import console, print_json
 from .motion import load_motion
 
-app = typer.Typer(help="Virtual isolation systems: presets, properties, force-displacement loops.",
-                  no_args_is_help=True)
+app = typer.Typer(
+    help="Virtual isolation systems: presets, properties, force-displacement loops.", no_args_is_help=True
+)
 
 VS_HELP = "Preset (" + ", ".join(presets.names()) + ") or a VS file (TOML)."
 SET_HELP = "Change a value: KEY=VALUE (bare number in the report's unit, or with a unit: 'u_y=10 mm')."
 
 #: Short display form of the internal units.
 _SHORT_UNITS = {
-    "force_pound * second**2 / inch": "lbf*s^2/in", "force_pound": "lbf", "force_pound / inch": "lbf/in",
-    "force_pound * second / inch": "lbf*s/in", "inch": "in", "hertz": "Hz", "second": "s",
-    "second / inch": "s/in", "dimensionless": "-",
+    "force_pound * second**2 / inch": "lbf*s^2/in",
+    "force_pound": "lbf",
+    "force_pound / inch": "lbf/in",
+    "force_pound * second / inch": "lbf*s/in",
+    "inch": "in",
+    "hertz": "Hz",
+    "second": "s",
+    "second / inch": "s/in",
+    "dimensionless": "-",
 }
 
 
-def _spec(vs: str, sets: Optional[List[str]]) -> VSSpec:
+def _spec(vs: str, sets: list[str] | None) -> VSSpec:
     return resolve(vs, parse_overrides(sets))
 
 
@@ -51,22 +58,30 @@ def list_presets(json_out: bool = typer.Option(False, "--json", help="Print JSON
     for name in presets.names():
         design = presets.targets(name)
         vs = design.build()
-        rows.append({"name": name, "kind": vs.kind, **{k: v for k, v in design.__dict__.items()},
-                     "k_s": vs.to_dict().get("k_s")})
+        rows.append(
+            {
+                "name": name,
+                "kind": vs.kind,
+                **{k: v for k, v in design.__dict__.items()},
+                "k_s": vs.to_dict().get("k_s"),
+            }
+        )
     if json_out:
         print_json(rows)
         return
     for row in rows:
-        text = ", ".join(f"{k}={row[k]:.4g}" for k in ("f", "zeta", "q_ratio", "mu_max", "mu_min", "T_s")
-                         if k in row)
+        text = ", ".join(
+            f"{k}={row[k]:.4g}" for k in ("f", "zeta", "q_ratio", "mu_max", "mu_min", "T_s") if k in row
+        )
         console.print(f"{row['name']:4s} {row['kind']}  {text}  k_s={row['k_s']:.1f} lbf/in")
 
 
 @app.command("describe")
-def describe(vs: str = typer.Argument(..., help=VS_HELP),
-             sets: Optional[List[str]] = typer.Option(None, "--set", help=SET_HELP),
-             json_out: bool = typer.Option(False, "--json", help="Print JSON (values in internal units).")
-             ) -> None:
+def describe(
+    vs: str = typer.Argument(..., help=VS_HELP),
+    sets: list[str] | None = typer.Option(None, "--set", help=SET_HELP),
+    json_out: bool = typer.Option(False, "--json", help="Print JSON (values in internal units)."),
+) -> None:
     """All properties of a VS (targets, parameters, derived values) with units."""
     spec = _spec(vs, sets)
     props = describe_spec(spec)
@@ -82,7 +97,7 @@ def describe(vs: str = typer.Argument(..., help=VS_HELP),
         console.print(f"  {p.label:45s} {p.key:9s} {p.value:12.6g} {_SHORT_UNITS.get(p.unit, p.unit)}{extra}")
 
 
-def _article_weight(spec: VSSpec, text: Optional[str]) -> float:
+def _article_weight(spec: VSSpec, text: str | None) -> float:
     if text is not None:
         return quantity("--article-weight", text, "force_pound", "nonnegative")
     for source in (spec.vs, spec.targets):
@@ -92,23 +107,29 @@ def _article_weight(spec: VSSpec, text: Optional[str]) -> float:
 
 
 @app.command("loops")
-def loops(vs: List[str] = typer.Argument(..., help=VS_HELP + " Several give overlaid loops."),
-          output: str = typer.Option(..., "-o", "--output", help="Figure file (.png, .pdf, .svg ...)."),
-          amplitude: str = typer.Option("0.3 g0", help="Peak of the harmonic ground acceleration "
-                                        "(bare number: in/s^2; or '0.3 g0')."),
-          frequency: str = typer.Option("1.0", help="Frequency of the harmonic input [Hz]."),
-          cycles: float = typer.Option(3.0, help="Cycles at full amplitude (after a half-cycle ramp)."),
-          motion: Optional[str] = typer.Option(None, help="Recorded ground motion instead of the "
-                                               "harmonic input: built-in name or file (see imil motion)."),
-          pga: Optional[float] = typer.Option(None, help="Scale the recorded motion to this PGA [g]."),
-          article_weight: Optional[str] = typer.Option(
-              None, help="Weight of the rigid test article on the basemat (default: the VS's w_ps, "
-              "3600 lbf); '0' for the basemat alone."),
-          dt: float = typer.Option(0.0005, help="Integration step [s] (report loop time 0.0005 s)."),
-          normalize: bool = typer.Option(False, help="Plot shear force / axial load (Figure 9.1)."),
-          sets: Optional[List[str]] = typer.Option(None, "--set", help=SET_HELP),
-          json_out: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
-          ) -> None:
+def loops(
+    vs: list[str] = typer.Argument(..., help=VS_HELP + " Several give overlaid loops."),
+    output: str = typer.Option(..., "-o", "--output", help="Figure file (.png, .pdf, .svg ...)."),
+    amplitude: str = typer.Option(
+        "0.3 g0", help="Peak of the harmonic ground acceleration (bare number: in/s^2; or '0.3 g0')."
+    ),
+    frequency: str = typer.Option("1.0", help="Frequency of the harmonic input [Hz]."),
+    cycles: float = typer.Option(3.0, help="Cycles at full amplitude (after a half-cycle ramp)."),
+    motion: str | None = typer.Option(
+        None,
+        help="Recorded ground motion instead of the harmonic input: built-in name or file (see imil motion).",
+    ),
+    pga: float | None = typer.Option(None, help="Scale the recorded motion to this PGA [g]."),
+    article_weight: str | None = typer.Option(
+        None,
+        help="Weight of the rigid test article on the basemat (default: the VS's w_ps, "
+        "3600 lbf); '0' for the basemat alone.",
+    ),
+    dt: float = typer.Option(0.0005, help="Integration step [s] (report loop time 0.0005 s)."),
+    normalize: bool = typer.Option(False, help="Plot shear force / axial load (Figure 9.1)."),
+    sets: list[str] | None = typer.Option(None, "--set", help=SET_HELP),
+    json_out: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
+) -> None:
     """Force-displacement loops of one or more VS for a harmonic or recorded ground motion."""
     target = check_figure_path(output)
     step = quantity("--dt", dt, "second", "positive")
@@ -132,17 +153,28 @@ def loops(vs: List[str] = typer.Argument(..., help=VS_HELP + " Several give over
         responses.append(r)
         labels.append(spec.name)
         loads.append(axial)
-        summary.append({"name": spec.name, "kind": spec.vs.kind, "peak_displacement": float(np.abs(r.displacement).max()),
-                        "peak_force": float(np.abs(r.force).max()), "peak_z_vs": float(np.abs(r.z_vs).max()),
-                        "dissipated_energy": float(np.sum(0.5 * (r.force[1:] + r.force[:-1]) * np.diff(r.displacement))),
-                        "axial_load": axial})
+        summary.append(
+            {
+                "name": spec.name,
+                "kind": spec.vs.kind,
+                "peak_displacement": float(np.abs(r.displacement).max()),
+                "peak_force": float(np.abs(r.force).max()),
+                "peak_z_vs": float(np.abs(r.z_vs).max()),
+                "dissipated_energy": float(
+                    np.sum(0.5 * (r.force[1:] + r.force[:-1]) * np.diff(r.displacement))
+                ),
+                "axial_load": axial,
+            }
+        )
     fig = plot_loops(responses, labels, loads if normalize else None, title=f"Ground motion: {input_text}")
     save_figure(fig, target)
     if json_out:
         print_json({"figure": str(target), "input": input_text, "dt": step, "systems": summary})
         return
     for row in summary:
-        console.print(f"{row['name']}: peak displacement {row['peak_displacement']:.3f} in, peak force "
-                      f"{row['peak_force']:.1f} lbf, peak z_vs {in_s2_to_g(row['peak_z_vs']):.3f} g, "
-                      f"dissipated {row['dissipated_energy']:.1f} lbf*in")
+        console.print(
+            f"{row['name']}: peak displacement {row['peak_displacement']:.3f} in, peak force "
+            f"{row['peak_force']:.1f} lbf, peak z_vs {in_s2_to_g(row['peak_z_vs']):.3f} g, "
+            f"dissipated {row['dissipated_energy']:.1f} lbf*in"
+        )
     console.print(f"wrote {target}")

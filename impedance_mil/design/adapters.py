@@ -6,14 +6,11 @@ this module is the one place that knows the classes of the other packages.
 
 from __future__ import annotations
 
-from typing import Optional
-
+from ..errors import ConfigError
 from ..plant import LinearTable, TableParameters
 from ..virtual.base import VirtualSystem
 from .forms import TableModel, VirtualModel
-from .linearize import (DEFAULT_AMPLITUDE_IN, DEFAULT_ARTICLE_WEIGHT_LBF, METHODS,
-                        equivalent_linearization)
-from ..errors import ConfigError
+from .linearize import DEFAULT_AMPLITUDE_IN, DEFAULT_ARTICLE_WEIGHT_LBF, METHODS, equivalent_linearization
 
 
 def table_model(params: TableParameters, delay: str = "first-order") -> TableModel:
@@ -36,10 +33,14 @@ def table_model(params: TableParameters, delay: str = "first-order") -> TableMod
     return TableModel(tbl.tf("z", "u"), tbl.tf("z", "w"), float(params.loop_time), params.to_dict())
 
 
-def virtual_model(vs: VirtualSystem, name: Optional[str] = None, *,
-                  linearization: str = "describing-function",
-                  amplitude_in: float = DEFAULT_AMPLITUDE_IN,
-                  article_weight_lbf: float = DEFAULT_ARTICLE_WEIGHT_LBF) -> VirtualModel:
+def virtual_model(
+    vs: VirtualSystem,
+    name: str | None = None,
+    *,
+    linearization: str = "describing-function",
+    amplitude_in: float = DEFAULT_AMPLITUDE_IN,
+    article_weight_lbf: float = DEFAULT_ARTICLE_WEIGHT_LBF,
+) -> VirtualModel:
     """The design's view of a VS: its linear part (Eq 5-2, 5-8, 5-13) and, if hysteretic, its linearization.
 
     Parameters
@@ -63,5 +64,6 @@ def virtual_model(vs: VirtualSystem, name: Optional[str] = None, *,
     eq = None
     if lp.H_zfh is not None and linearization != "open-fh":
         eq = equivalent_linearization(vs, amplitude_in, linearization, article_weight_lbf)
-    return VirtualModel(lp.H_zag, lp.H_zw, lp.H_zfh, kind=str(vs.kind), name=name,
-                        parameters=vs.to_dict(), equivalent=eq)
+    return VirtualModel(
+        lp.H_zag, lp.H_zw, lp.H_zfh, kind=str(vs.kind), name=name, parameters=vs.to_dict(), equivalent=eq
+    )

@@ -26,15 +26,15 @@ III stability: passivity of ``H_vw = H_c/s`` (Eq 9-2) from 0.01 Hz to the
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
-from typing import Any, Optional
+from typing import Any
 
 import numpy as np
 
 from ..errors import ConfigError
 from ..systems import TransferFunction
+from ..units import TWO_PI
 from .forms import TableModel, VirtualModel
 from .passivity import PassivityResult, log_grid_hz, passivity
-from ..units import TWO_PI
 
 #: Half-power complex relative error, 1 - 10**(-3/20).
 HALF_POWER_ERROR = 1.0 - 10.0 ** (-3.0 / 20.0)
@@ -79,11 +79,15 @@ class DesignCriteria:
             if not float(getattr(self, key)) > 0:
                 raise ConfigError(key, "a positive number", getattr(self, key))
         if not 0 < self.effort_start_fraction < 0.5:
-            raise ConfigError("effort_start_fraction", "a fraction of the loop rate in (0, 0.5)",
-                              self.effort_start_fraction)
+            raise ConfigError(
+                "effort_start_fraction", "a fraction of the loop rate in (0, 0.5)", self.effort_start_fraction
+            )
         if self.passivity_extra_tolerance_deg < 0:
-            raise ConfigError("passivity_extra_tolerance_deg", "a non-negative angle in deg",
-                              self.passivity_extra_tolerance_deg)
+            raise ConfigError(
+                "passivity_extra_tolerance_deg",
+                "a non-negative angle in deg",
+                self.passivity_extra_tolerance_deg,
+            )
 
     def effort_band_hz(self, nyquist_hz: float) -> tuple[float, float]:
         """High-frequency band of constraint II [Hz] below the Nyquist frequency ``nyquist_hz`` [Hz]."""
@@ -138,8 +142,9 @@ class ControlledTable:
 
     def impedance(self, f_hz) -> np.ndarray:
         """Controlled impedance ``H_c`` at ``f_hz`` [Hz] [in/s**2 per lbf]."""
-        return (self.H_zw_st.frequency_response(f_hz)
-                + self.H_zu_st.frequency_response(f_hz) * self.wu_response(f_hz))
+        return self.H_zw_st.frequency_response(f_hz) + self.H_zu_st.frequency_response(
+            f_hz
+        ) * self.wu_response(f_hz)
 
     def velocity_response(self, f_hz) -> np.ndarray:
         """Force-velocity response ``H_c/(j 2 pi f)`` at ``f_hz`` [Hz] [in/s per lbf] (Eq 9-2)."""
@@ -172,7 +177,7 @@ class ConstraintResult:
     """
 
     fc_hz: float
-    I: bool
+    I: bool  # noqa: E741 (the report names constraint I)
     II: bool
     III: bool
     performance_error: float
@@ -192,28 +197,39 @@ class ConstraintResult:
         return self.I and self.II and self.III
 
     def to_dict(self) -> dict:
-        return {k: (bool(v) if isinstance(v, (bool, np.bool_)) else float(v))
-                for k, v in asdict(self).items()}
+        return {
+            k: (bool(v) if isinstance(v, (bool, np.bool_)) else float(v)) for k, v in asdict(self).items()
+        }
 
     def violations(self) -> list[str]:
         """One sentence per violated constraint."""
         out = []
         if not self.I:
-            out.append(f"constraint I (performance) violated at fc = {self.fc_hz:g} Hz: impedance error "
-                       f"{self.performance_error:.3f} at {self.performance_worst_hz:.3g} Hz")
+            out.append(
+                f"constraint I (performance) violated at fc = {self.fc_hz:g} Hz: impedance error "
+                f"{self.performance_error:.3f} at {self.performance_worst_hz:.3g} Hz"
+            )
         if not self.II:
-            out.append(f"constraint II (control effort) violated at fc = {self.fc_hz:g} Hz: high-frequency "
-                       f"controller gain {self.effort_ratio:.3g} x its in-band gain "
-                       f"(at {self.effort_worst_hz:.4g} Hz)")
+            out.append(
+                f"constraint II (control effort) violated at fc = {self.fc_hz:g} Hz: high-frequency "
+                f"controller gain {self.effort_ratio:.3g} x its in-band gain "
+                f"(at {self.effort_worst_hz:.4g} Hz)"
+            )
         if not self.III:
-            why = "unstable" if not self.stable else (
-                f"passivity margin {self.passivity_margin_deg:.2f} deg at {self.passivity_worst_hz:.3g} Hz")
+            why = (
+                "unstable"
+                if not self.stable
+                else (
+                    f"passivity margin {self.passivity_margin_deg:.2f} deg at {self.passivity_worst_hz:.3g} Hz"
+                )
+            )
             out.append(f"constraint III (passivity) violated at fc = {self.fc_hz:g} Hz: {why}")
         return out
 
 
-def controlled_table(table: TableModel, vs: VirtualModel, H_uz: TransferFunction,
-                     H_uw: TransferFunction, form: str) -> ControlledTable:
+def controlled_table(
+    table: TableModel, vs: VirtualModel, H_uz: TransferFunction, H_uw: TransferFunction, form: str
+) -> ControlledTable:
     """The controlled table's impedance and force-velocity transfer function.
 
     Parameters
@@ -234,8 +250,7 @@ def controlled_table(table: TableModel, vs: VirtualModel, H_uz: TransferFunction
         H_wu = H_uw
     H_c = (table.H_zw + table.H_zu.mul_cancel(H_wu)).minreal()
     H_vw = H_c.div_cancel(TransferFunction.s())
-    return ControlledTable(H_c, H_vw, H_wu, table.H_zw, table.H_zu, H_uw, H_uz,
-                           target if closes_vs else None)
+    return ControlledTable(H_c, H_vw, H_wu, table.H_zw, table.H_zu, H_uw, H_uz, target if closes_vs else None)
 
 
 def target_impedance(vs: VirtualModel, form: str):
@@ -262,8 +277,13 @@ class _LinearTarget:
         return self.H_zw.frequency_response(f_hz)
 
 
-def evaluate_constraints(table: TableModel, vs: VirtualModel, ct: ControlledTable, fc_hz: float,
-                         criteria: Optional[DesignCriteria] = None) -> ConstraintResult:
+def evaluate_constraints(
+    table: TableModel,
+    vs: VirtualModel,
+    ct: ControlledTable,
+    fc_hz: float,
+    criteria: DesignCriteria | None = None,
+) -> ConstraintResult:
     """Evaluate constraints I, II, III for one filtered design.
 
     Parameters
@@ -300,15 +320,27 @@ def evaluate_constraints(table: TableModel, vs: VirtualModel, ct: ControlledTabl
     j = int(np.argmax(high))
     effort = float(high[j] / in_band) if in_band > 0 else float("inf")
 
-    pas: PassivityResult = passivity(ct.H_vw, (c.passivity_low_hz, table.nyquist_hz),
-                                     table.loop_time_s, c.passivity_extra_tolerance_deg,
-                                     response=ct.velocity_response)
+    pas: PassivityResult = passivity(
+        ct.H_vw,
+        (c.passivity_low_hz, table.nyquist_hz),
+        table.loop_time_s,
+        c.passivity_extra_tolerance_deg,
+        response=ct.velocity_response,
+    )
     return ConstraintResult(
         fc_hz=float(fc_hz),
-        I=bool(err[i] <= c.performance_max), II=bool(effort <= c.effort_ratio_max), III=pas.passive,
-        performance_error=float(err[i]), performance_worst_hz=float(f[i]),
-        magnitude_error_db=mag_db, phase_error_deg=ph_deg,
-        effort_ratio=effort, effort_worst_hz=float(fh[j]),
-        passivity_margin_deg=pas.margin_deg, passivity_worst_hz=pas.worst_hz,
+        I=bool(err[i] <= c.performance_max),
+        II=bool(effort <= c.effort_ratio_max),
+        III=pas.passive,
+        performance_error=float(err[i]),
+        performance_worst_hz=float(f[i]),
+        magnitude_error_db=mag_db,
+        phase_error_deg=ph_deg,
+        effort_ratio=effort,
+        effort_worst_hz=float(fh[j]),
+        passivity_margin_deg=pas.margin_deg,
+        passivity_worst_hz=pas.worst_hz,
         passivity_tolerant_margin_deg=pas.tolerant_margin_deg,
-        passivity_tolerant_worst_hz=pas.tolerant_worst_hz, stable=pas.stable)
+        passivity_tolerant_worst_hz=pas.tolerant_worst_hz,
+        stable=pas.stable,
+    )

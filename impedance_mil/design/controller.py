@@ -14,8 +14,9 @@ loop) but carries a warning; :mod:`impedance_mil.implement` refuses it.
 from __future__ import annotations
 
 import warnings as _warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Mapping, NamedTuple, Optional, Sequence
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -23,11 +24,24 @@ from .. import __version__
 from ..errors import ConfigError, DesignWarning, ImilError, UnstableDesignError
 from ..systems import TransferFunction
 from ..units import TWO_PI
-from .constraints import (ConstraintResult, ControlledTable, DesignCriteria, controlled_table,
-                          evaluate_constraints)
+from .constraints import (
+    ConstraintResult,
+    ControlledTable,
+    DesignCriteria,
+    controlled_table,
+    evaluate_constraints,
+)
 from .filters import FAMILIES, apply_filter
-from .forms import (FORMS, IdealController, TableModel, VirtualModel, environment, ideal_controller,
-                    imaginary_axis, right_half_plane)
+from .forms import (
+    FORMS,
+    IdealController,
+    TableModel,
+    VirtualModel,
+    environment,
+    ideal_controller,
+    imaginary_axis,
+    right_half_plane,
+)
 
 
 @dataclass(frozen=True)
@@ -53,12 +67,17 @@ class FilterSpec:
     order_w: int = 3
     order_fh: int = 0
     ripple_db: float = 0.5
-    fc_w_hz: Optional[float] = None
+    fc_w_hz: float | None = None
 
     def to_dict(self) -> dict:
-        return {"family": self.family, "order_z": int(self.order_z), "order_w": int(self.order_w),
-                "order_fh": int(self.order_fh), "ripple_db": float(self.ripple_db),
-                "fc_w_hz": None if self.fc_w_hz is None else float(self.fc_w_hz)}
+        return {
+            "family": self.family,
+            "order_z": int(self.order_z),
+            "order_w": int(self.order_w),
+            "order_fh": int(self.order_fh),
+            "ripple_db": float(self.ripple_db),
+            "fc_w_hz": None if self.fc_w_hz is None else float(self.fc_w_hz),
+        }
 
 
 @dataclass(frozen=True)
@@ -99,12 +118,12 @@ class ControllerDesign:
     loop_time_s: float
     H_uz: TransferFunction
     H_uw: TransferFunction
-    H_ufh: Optional[TransferFunction] = None
+    H_ufh: TransferFunction | None = None
     constraints: tuple[ConstraintResult, ...] = ()
-    feasible_fc_hz: Optional[tuple[float, float]] = None
+    feasible_fc_hz: tuple[float, float] | None = None
     warnings: tuple[str, ...] = ()
     table: Mapping[str, Any] = field(default_factory=dict)
-    vs: Optional[Mapping[str, Any]] = None
+    vs: Mapping[str, Any] | None = None
     software_version: str = __version__
 
     def constraint_at(self, fc_hz: float) -> ConstraintResult:
@@ -117,14 +136,20 @@ class ControllerDesign:
     def to_json(self) -> dict:
         """The ``imil design --json`` document (see docs/design.md)."""
         return {
-            "form": self.form, "reference": self.reference, "fc_hz": float(self.fc_hz),
-            "filter": self.filter.to_dict(), "loop_time_s": float(self.loop_time_s),
-            "H_uz": self.H_uz.to_dict(), "H_uw": self.H_uw.to_dict(),
+            "form": self.form,
+            "reference": self.reference,
+            "fc_hz": float(self.fc_hz),
+            "filter": self.filter.to_dict(),
+            "loop_time_s": float(self.loop_time_s),
+            "H_uz": self.H_uz.to_dict(),
+            "H_uw": self.H_uw.to_dict(),
             "H_ufh": None if self.H_ufh is None else self.H_ufh.to_dict(),
-            "sign_convention": "u = H_uz*%s + H_uw*w%s" % (self.reference,
-                                                          " + H_ufh*f_h" if self.H_ufh is not None else ""),
+            "sign_convention": f"u = H_uz*{self.reference} + H_uw*w"
+            + (" + H_ufh*f_h" if self.H_ufh is not None else ""),
             "constraints": [c.to_dict() for c in self.constraints],
-            "feasible_fc_hz": None if self.feasible_fc_hz is None else [float(x) for x in self.feasible_fc_hz],
+            "feasible_fc_hz": None
+            if self.feasible_fc_hz is None
+            else [float(x) for x in self.feasible_fc_hz],
             "warnings": list(self.warnings),
         }
 
@@ -135,13 +160,18 @@ class FilteredPaths:
 
     H_uz: TransferFunction
     H_uw: TransferFunction
-    H_ufh: Optional[TransferFunction]
+    H_ufh: TransferFunction | None
     spec: FilterSpec
 
 
-def filter_controller(ideal: IdealController, fc_hz: float, family: str = "butterworth",
-                      order: Optional[int] = None, ripple_db: float = 0.5,
-                      fc_w_hz: Optional[float] = None) -> FilteredPaths:
+def filter_controller(
+    ideal: IdealController,
+    fc_hz: float,
+    family: str = "butterworth",
+    order: int | None = None,
+    ripple_db: float = 0.5,
+    fc_w_hz: float | None = None,
+) -> FilteredPaths:
     """Filter every path of an ideal controller (Eq 6-9).
 
     Parameters
@@ -183,10 +213,18 @@ class DesignAtFc(NamedTuple):
     constraints: ConstraintResult
 
 
-def design_at_fc(table: TableModel, env: VirtualModel, ideal: IdealController, fc_hz: float,
-                 criteria: Optional[DesignCriteria] = None, *, family: str = "butterworth",
-                 order: Optional[int] = None, ripple_db: float = 0.5,
-                 fc_w_hz: Optional[float] = None) -> DesignAtFc:
+def design_at_fc(
+    table: TableModel,
+    env: VirtualModel,
+    ideal: IdealController,
+    fc_hz: float,
+    criteria: DesignCriteria | None = None,
+    *,
+    family: str = "butterworth",
+    order: int | None = None,
+    ripple_db: float = 0.5,
+    fc_w_hz: float | None = None,
+) -> DesignAtFc:
     """Filter ``ideal`` at ``fc_hz`` [Hz] (:func:`filter_controller`) and evaluate constraints I, II, III.
 
     ``env`` is the VS model of :func:`~impedance_mil.design.forms.environment`;
@@ -221,23 +259,33 @@ def check_proper_and_stable(paths: FilteredPaths) -> list[str]:
         if bad.size:
             worst = bad[np.argmax(bad.real)]
             raise UnstableDesignError(
-                f"filtered {name} has an unstable pole at {worst.real:.4g}{worst.imag:+.4g}j rad/s")
+                f"filtered {name} has an unstable pole at {worst.real:.4g}{worst.imag:+.4g}j rad/s"
+            )
         axis = imaginary_axis(p)
-        axis = axis[np.abs(axis) > 1e-9]      # poles at the origin are expected (Eq 6-8a)
+        axis = axis[np.abs(axis) > 1e-9]  # poles at the origin are expected (Eq 6-8a)
         if axis.size:
-            notes.append(f"{name} has undamped poles at {np.abs(axis[0]) / TWO_PI:.3g} Hz "
-                         "(lossless VS linear part): the controller relies on the VS model's f_h for damping")
+            notes.append(
+                f"{name} has undamped poles at {np.abs(axis[0]) / TWO_PI:.3g} Hz "
+                "(lossless VS linear part): the controller relies on the VS model's f_h for damping"
+            )
     return notes
 
 
-def design_controller(table: TableModel, vs: Optional[VirtualModel] = None, *,
-                      form: str = "standardized", fc_hz: float = 80.0,
-                      family: str = "butterworth", order: Optional[int] = None,
-                      ripple_db: float = 0.5, fc_w_hz: Optional[float] = None,
-                      evaluate_fc_hz: Sequence[float] = (),
-                      criteria: Optional[DesignCriteria] = None,
-                      feasible_fc_hz: Optional[tuple[float, float]] = None,
-                      emit_warnings: bool = True) -> ControllerDesign:
+def design_controller(
+    table: TableModel,
+    vs: VirtualModel | None = None,
+    *,
+    form: str = "standardized",
+    fc_hz: float = 80.0,
+    family: str = "butterworth",
+    order: int | None = None,
+    ripple_db: float = 0.5,
+    fc_w_hz: float | None = None,
+    evaluate_fc_hz: Sequence[float] = (),
+    criteria: DesignCriteria | None = None,
+    feasible_fc_hz: tuple[float, float] | None = None,
+    emit_warnings: bool = True,
+) -> ControllerDesign:
     """Design the filtered MIL controller of one form at one cut-off.
 
     Parameters
@@ -303,54 +351,88 @@ def design_controller(table: TableModel, vs: Optional[VirtualModel] = None, *,
     for k, fc in enumerate([fc_hz, *[x for x in evaluate_fc_hz if not np.isclose(x, fc_hz)]]):
         if not (np.isfinite(fc) and fc > 0):
             raise ConfigError("fc", "a positive cut-off frequency in Hz", fc)
-        at = design_at_fc(table, env, ideal, fc, c, family=family, order=order, ripple_db=ripple_db,
-                          fc_w_hz=fc_w_hz if k == 0 else None)
+        at = design_at_fc(
+            table,
+            env,
+            ideal,
+            fc,
+            c,
+            family=family,
+            order=order,
+            ripple_db=ripple_db,
+            fc_w_hz=fc_w_hz if k == 0 else None,
+        )
         if k == 0:
             paths = at.paths
             notes += check_proper_and_stable(at.paths)
         results.append(at.constraints)
     notes += _warnings_for(table, fc_hz, fc_w_hz, results, vs is None and form == "standardized")
     if form == "tracking" or vs is None:
-        notes.append("tracking: the target impedance is zero (a lossless, rigid environment), so constraint I "
-                     "is measured against the bare table and the passivity verdict III of the small residual "
-                     "impedance is not a stability criterion; see docs/design.md, Limitations")
+        notes.append(
+            "tracking: the target impedance is zero (a lossless, rigid environment), so constraint I "
+            "is measured against the bare table and the passivity verdict III of the small residual "
+            "impedance is not a stability criterion; see docs/design.md, Limitations"
+        )
     elif vs.H_zfh is not None and (vs.equivalent is None or form != "standardized"):
-        notes.append(f"{vs.kind}: constraints are evaluated on the VS linear part with f_h as an open input "
-                     "(initial stiffness, no hysteretic damping): conservative; see docs/design.md, Limitations")
+        notes.append(
+            f"{vs.kind}: constraints are evaluated on the VS linear part with f_h as an open input "
+            "(initial stiffness, no hysteretic damping): conservative; see docs/design.md, Limitations"
+        )
     elif vs.H_zfh is not None:
         eq = vs.equivalent
-        notes.append(f"{vs.kind}: constraints use the {eq.method} linearization of the isolator at "
-                     f"{eq.amplitude_in:g} in (k_eff = {eq.k_eff:.4g} lbf/in, beta_eff = {eq.beta_eff:.2f}); "
-                     "verdicts depend on that amplitude; see docs/design.md, Limitations")
+        notes.append(
+            f"{vs.kind}: constraints use the {eq.method} linearization of the isolator at "
+            f"{eq.amplitude_in:g} in (k_eff = {eq.k_eff:.4g} lbf/in, beta_eff = {eq.beta_eff:.2f}); "
+            "verdicts depend on that amplitude; see docs/design.md, Limitations"
+        )
     design = ControllerDesign(
-        form=form, reference=ideal.reference, fc_hz=float(fc_hz), filter=paths.spec,
-        loop_time_s=float(table.loop_time_s), H_uz=paths.H_uz, H_uw=paths.H_uw, H_ufh=paths.H_ufh,
-        constraints=tuple(results), feasible_fc_hz=feasible_fc_hz, warnings=tuple(notes),
+        form=form,
+        reference=ideal.reference,
+        fc_hz=float(fc_hz),
+        filter=paths.spec,
+        loop_time_s=float(table.loop_time_s),
+        H_uz=paths.H_uz,
+        H_uw=paths.H_uw,
+        H_ufh=paths.H_ufh,
+        constraints=tuple(results),
+        feasible_fc_hz=feasible_fc_hz,
+        warnings=tuple(notes),
         table=dict(table.parameters),
-        vs=None if form == "tracking" or vs is None else
-        {"kind": vs.kind, "name": vs.name, "parameters": dict(vs.parameters),
-         **({"linearization": vs.equivalent.to_dict()} if vs.equivalent is not None else {})})
+        vs=None
+        if form == "tracking" or vs is None
+        else {
+            "kind": vs.kind,
+            "name": vs.name,
+            "parameters": dict(vs.parameters),
+            **({"linearization": vs.equivalent.to_dict()} if vs.equivalent is not None else {}),
+        },
+    )
     if emit_warnings:
         for text in notes:
             _warnings.warn(text, DesignWarning, stacklevel=2)
     return design
 
 
-def _warnings_for(table: TableModel, fc_hz: float, fc_w_hz: Optional[float],
-                  results: list[ConstraintResult], no_vs: bool) -> list[str]:
+def _warnings_for(
+    table: TableModel, fc_hz: float, fc_w_hz: float | None, results: list[ConstraintResult], no_vs: bool
+) -> list[str]:
     notes = []
-    nyq = table.nyquist_hz if table.loop_time_s > 0 else np.inf   # no Nyquist limit for an analog loop
+    nyq = table.nyquist_hz if table.loop_time_s > 0 else np.inf  # no Nyquist limit for an analog loop
     for name, fc in (("fc", fc_hz), ("fc_w", fc_w_hz)):
         if fc is not None and fc >= nyq:
-            notes.append(f"{name} = {fc:g} Hz is at or above the Nyquist frequency {nyq:g} Hz of the "
-                         f"{table.loop_time_s * 1e6:g} us loop: valid for continuous-time analysis only; "
-                         "the implementation step will refuse it")
+            notes.append(
+                f"{name} = {fc:g} Hz is at or above the Nyquist frequency {nyq:g} Hz of the "
+                f"{table.loop_time_s * 1e6:g} us loop: valid for continuous-time analysis only; "
+                "the implementation step will refuse it"
+            )
     first = results[0]
     notes += first.violations()
     if first.III and first.passivity_margin_deg < 0:
-        notes.append(f"marginally non-passive: margin {first.passivity_margin_deg:.2f} deg at "
-                     f"{first.passivity_worst_hz:.3g} Hz, within the first-order delay-model tolerance "
-                     "(see docs/design.md)")
+        notes.append(
+            f"marginally non-passive: margin {first.passivity_margin_deg:.2f} deg at "
+            f"{first.passivity_worst_hz:.3g} Hz, within the first-order delay-model tolerance "
+            "(see docs/design.md)"
+        )
     if no_vs:
         notes.append("no virtual system given: constraints evaluated for acceleration tracking (H_zw^vs = 0)")
     return notes

@@ -59,9 +59,21 @@ class CoupledStability:
     above_hz: float
 
     def to_dict(self) -> dict:
-        return {"specimen": self.specimen, "stable": bool(self.stable),
-                **{k: float(getattr(self, k)) for k in ("max_real_part", "min_damping_ratio", "min_damping_hz",
-                                                        "hf_damping_ratio", "hf_damping_hz", "above_hz")}}
+        return {
+            "specimen": self.specimen,
+            "stable": bool(self.stable),
+            **{
+                k: float(getattr(self, k))
+                for k in (
+                    "max_real_part",
+                    "min_damping_ratio",
+                    "min_damping_hz",
+                    "hf_damping_ratio",
+                    "hf_damping_hz",
+                    "above_hz",
+                )
+            },
+        }
 
 
 def closed_loop_poles(H_c: TransferFunction, Z: TransferFunction) -> np.ndarray:
@@ -77,8 +89,9 @@ def closed_loop_poles(H_c: TransferFunction, Z: TransferFunction) -> np.ndarray:
     return H_c.feedback(Z, sign=+1).poles()
 
 
-def coupled_stability(H_c: TransferFunction, Z: TransferFunction, specimen: str = "",
-                      above_hz: float = DEFAULT_ABOVE_HZ) -> CoupledStability:
+def coupled_stability(
+    H_c: TransferFunction, Z: TransferFunction, specimen: str = "", above_hz: float = DEFAULT_ABOVE_HZ
+) -> CoupledStability:
     """Stability and damping margin of the controlled table with one linear article.
 
     Parameters
@@ -108,6 +121,12 @@ def coupled_stability(H_c: TransferFunction, Z: TransferFunction, specimen: str 
     hf = wn > TWO_PI * above_hz
     j = int(np.argmin(np.where(hf, zeta, np.inf))) if hf.any() else None
     return CoupledStability(
-        specimen, bool(np.all(p.real < 0)), float(p.real.max()), float(zeta[i]), float(wn[i] / TWO_PI),
-        float(zeta[j]) if j is not None else 1.0, float(wn[j] / TWO_PI) if j is not None else float("nan"),
-        float(above_hz))
+        specimen,
+        bool(np.all(p.real < 0)),
+        float(p.real.max()),
+        float(zeta[i]),
+        float(wn[i] / TWO_PI),
+        float(zeta[j]) if j is not None else 1.0,
+        float(wn[j] / TWO_PI) if j is not None else float("nan"),
+        float(above_hz),
+    )

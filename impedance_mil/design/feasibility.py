@@ -11,16 +11,16 @@ compute that range on a grid of cut-offs and map it over VS parameters:
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
 from ..errors import ImilError
 from ..systems import TransferFunction
 from .constraints import ConstraintResult, DesignCriteria
-from .coupled import CoupledStability, coupled_stability
 from .controller import design_at_fc
+from .coupled import CoupledStability, coupled_stability
 from .forms import TableModel, VirtualModel, environment, ideal_controller
 
 #: Default grid of cut-offs [Hz]: 30 log-spaced points from 20 Hz to the Nyquist frequency.
@@ -41,7 +41,7 @@ class FcScan:
     """
 
     results: tuple[ConstraintResult, ...]
-    feasible_fc_hz: Optional[tuple[float, float]]
+    feasible_fc_hz: tuple[float, float] | None
 
     @property
     def fc_hz(self) -> np.ndarray:
@@ -89,23 +89,32 @@ class MassRatioCase:
     """
 
     mass_ratio: float
-    feasible_fc_hz: Optional[tuple[float, float]]
+    feasible_fc_hz: tuple[float, float] | None
     scan: FcScan
-    design_fc_hz: Optional[float] = None
-    at_design_fc: Optional[ConstraintResult] = None
+    design_fc_hz: float | None = None
+    at_design_fc: ConstraintResult | None = None
     coupled: tuple[CoupledStability, ...] = ()
 
     def to_dict(self) -> dict:
         """The ``mass_ratio_study`` entry of ``imil design --json``."""
-        out = {"mass_ratio": self.mass_ratio,
-               "feasible_fc_hz": None if self.feasible_fc_hz is None else [float(x) for x in self.feasible_fc_hz]}
+        out = {
+            "mass_ratio": self.mass_ratio,
+            "feasible_fc_hz": None
+            if self.feasible_fc_hz is None
+            else [float(x) for x in self.feasible_fc_hz],
+        }
         if self.at_design_fc is not None:
             r = self.at_design_fc
-            out.update({"design_fc_hz": self.design_fc_hz, "passive_at_design_fc": bool(r.III),
-                        "passivity_margin_deg": r.passivity_margin_deg,
-                        "passivity_tolerant_margin_deg": r.passivity_tolerant_margin_deg,
-                        "passivity_worst_hz": r.passivity_worst_hz,
-                        "coupled": [c.to_dict() for c in self.coupled]})
+            out.update(
+                {
+                    "design_fc_hz": self.design_fc_hz,
+                    "passive_at_design_fc": bool(r.III),
+                    "passivity_margin_deg": r.passivity_margin_deg,
+                    "passivity_tolerant_margin_deg": r.passivity_tolerant_margin_deg,
+                    "passivity_worst_hz": r.passivity_worst_hz,
+                    "coupled": [c.to_dict() for c in self.coupled],
+                }
+            )
         return out
 
 
@@ -141,9 +150,16 @@ def default_fc_grid(table: TableModel, points: int = DEFAULT_FC_POINTS) -> np.nd
     return np.logspace(np.log10(DEFAULT_FC_LOW_HZ), np.log10(table.nyquist_hz), points)
 
 
-def scan_fc(table: TableModel, vs: Optional[VirtualModel], fc_grid_hz: Optional[Sequence[float]] = None,
-            *, form: str = "standardized", family: str = "butterworth", order: Optional[int] = None,
-            criteria: Optional[DesignCriteria] = None) -> FcScan:
+def scan_fc(
+    table: TableModel,
+    vs: VirtualModel | None,
+    fc_grid_hz: Sequence[float] | None = None,
+    *,
+    form: str = "standardized",
+    family: str = "butterworth",
+    order: int | None = None,
+    criteria: DesignCriteria | None = None,
+) -> FcScan:
     """Evaluate the three constraints on a grid of cut-offs.
 
     Parameters
@@ -159,12 +175,14 @@ def scan_fc(table: TableModel, vs: Optional[VirtualModel], fc_grid_hz: Optional[
     env = environment(form, vs)
     ideal = ideal_controller(form, table, env)
     grid = np.sort(np.asarray(default_fc_grid(table) if fc_grid_hz is None else fc_grid_hz, float))
-    results = [design_at_fc(table, env, ideal, float(fc), criteria, family=family, order=order).constraints
-               for fc in grid]
+    results = [
+        design_at_fc(table, env, ideal, float(fc), criteria, family=family, order=order).constraints
+        for fc in grid
+    ]
     return FcScan(tuple(results), _widest_run(results))
 
 
-def _widest_run(results: Sequence[ConstraintResult]) -> Optional[tuple[float, float]]:
+def _widest_run(results: Sequence[ConstraintResult]) -> tuple[float, float] | None:
     best, start = None, None
     for i, r in enumerate([*results, None]):
         ok = r is not None and r.all_satisfied
@@ -179,9 +197,16 @@ def _widest_run(results: Sequence[ConstraintResult]) -> Optional[tuple[float, fl
     return (results[best[0]].fc_hz, results[best[1] - 1].fc_hz)
 
 
-def choose_fc(table: TableModel, vs: Optional[VirtualModel], fc_grid_hz: Optional[Sequence[float]] = None,
-              *, form: str = "standardized", family: str = "butterworth", order: Optional[int] = None,
-              criteria: Optional[DesignCriteria] = None) -> FcChoice:
+def choose_fc(
+    table: TableModel,
+    vs: VirtualModel | None,
+    fc_grid_hz: Sequence[float] | None = None,
+    *,
+    form: str = "standardized",
+    family: str = "butterworth",
+    order: int | None = None,
+    criteria: DesignCriteria | None = None,
+) -> FcChoice:
     """Choose the cut-off automatically (``imil design --fc auto``).
 
     Among the feasible cut-offs, the one that balances the two opposing
@@ -220,17 +245,24 @@ def choose_fc(table: TableModel, vs: Optional[VirtualModel], fc_grid_hz: Optiona
         return FcChoice(best.fc_hz, True, reasons, scan)
     ok_I = [r for r in rs if r.I]
     best = max(ok_I, key=lambda r: r.passivity_tolerant_margin_deg) if ok_I else max(rs, key=balance)
-    reasons = (f"no cut-off on the grid {rs[0].fc_hz:.4g}-{rs[-1].fc_hz:.4g} Hz satisfies I, II and III",
-               f"fc = {best.fc_hz:.4g} Hz is the least bad: " + "; ".join(best.violations()))
+    reasons = (
+        f"no cut-off on the grid {rs[0].fc_hz:.4g}-{rs[-1].fc_hz:.4g} Hz satisfies I, II and III",
+        f"fc = {best.fc_hz:.4g} Hz is the least bad: " + "; ".join(best.violations()),
+    )
     return FcChoice(best.fc_hz, False, reasons, scan)
 
 
-def mass_ratio_study(table: TableModel, vs_for_mass: Callable[[float], VirtualModel],
-                     ratios: Sequence[float], fc_grid_hz: Optional[Sequence[float]] = None, *,
-                     form: str = "standardized", criteria: Optional[DesignCriteria] = None,
-                     design_fc_hz: Optional[float] = None,
-                     specimens: Optional[Mapping[str, TransferFunction]] = None
-                     ) -> tuple[MassRatioCase, ...]:
+def mass_ratio_study(
+    table: TableModel,
+    vs_for_mass: Callable[[float], VirtualModel],
+    ratios: Sequence[float],
+    fc_grid_hz: Sequence[float] | None = None,
+    *,
+    form: str = "standardized",
+    criteria: DesignCriteria | None = None,
+    design_fc_hz: float | None = None,
+    specimens: Mapping[str, TransferFunction] | None = None,
+) -> tuple[MassRatioCase, ...]:
     """Feasible cut-offs as the basemat mass changes (Section 9.4.4), and coupled stability.
 
     Parameters
@@ -260,18 +292,29 @@ def mass_ratio_study(table: TableModel, vs_for_mass: Callable[[float], VirtualMo
         at, coupled = None, ()
         if design_fc_hz is not None:
             env = environment(form, vs)
-            design = design_at_fc(table, env, ideal_controller(form, table, env), float(design_fc_hz), criteria)
+            design = design_at_fc(
+                table, env, ideal_controller(form, table, env), float(design_fc_hz), criteria
+            )
             at = design.constraints
-            coupled = tuple(coupled_stability(design.controlled.H_c, Z, label)
-                            for label, Z in (specimens or {}).items())
+            coupled = tuple(
+                coupled_stability(design.controlled.H_c, Z, label) for label, Z in (specimens or {}).items()
+            )
         out.append(MassRatioCase(float(ratio), scan.feasible_fc_hz, scan, design_fc_hz, at, coupled))
     return tuple(out)
 
 
-def feasibility_map(table: TableModel, vs_for: Callable[..., VirtualModel], x_name: str,
-                    x_values: Sequence[float], y_name: str, y_values: Sequence[float],
-                    fc_grid_hz: Optional[Sequence[float]] = None, *, form: str = "standardized",
-                    criteria: Optional[DesignCriteria] = None) -> FeasibilityMap:
+def feasibility_map(
+    table: TableModel,
+    vs_for: Callable[..., VirtualModel],
+    x_name: str,
+    x_values: Sequence[float],
+    y_name: str,
+    y_values: Sequence[float],
+    fc_grid_hz: Sequence[float] | None = None,
+    *,
+    form: str = "standardized",
+    criteria: DesignCriteria | None = None,
+) -> FeasibilityMap:
     """Feasible cut-off range over a grid of two VS parameters ("can this table imitate that isolator?").
 
     Parameters
@@ -298,8 +341,13 @@ def feasibility_map(table: TableModel, vs_for: Callable[..., VirtualModel], x_na
     for i, yv in enumerate(y):
         for j, xv in enumerate(x):
             try:
-                scan = scan_fc(table, vs_for(**{x_name: float(xv), y_name: float(yv)}), fc_grid_hz,
-                               form=form, criteria=criteria)
+                scan = scan_fc(
+                    table,
+                    vs_for(**{x_name: float(xv), y_name: float(yv)}),
+                    fc_grid_hz,
+                    form=form,
+                    criteria=criteria,
+                )
             except ImilError:
                 continue
             if scan.feasible_fc_hz is not None:

@@ -82,8 +82,12 @@ class LowpassFilter:
 
     def to_dict(self) -> dict:
         """``{"family", "order", "fc_hz", "ripple_db"}``."""
-        return {"family": self.family, "order": int(self.order), "fc_hz": float(self.fc_hz),
-                "ripple_db": float(self.ripple_db)}
+        return {
+            "family": self.family,
+            "order": int(self.order),
+            "fc_hz": float(self.fc_hz),
+            "ripple_db": float(self.ripple_db),
+        }
 
 
 def required_order(H: TransferFunction) -> int:
@@ -91,8 +95,9 @@ def required_order(H: TransferFunction) -> int:
     return max(0, -H.relative_degree)
 
 
-def apply_filter(H: TransferFunction, family: str, fc_hz: float, order: int | None = None,
-                 ripple_db: float = 0.5) -> tuple[TransferFunction, int]:
+def apply_filter(
+    H: TransferFunction, family: str, fc_hz: float, order: int | None = None, ripple_db: float = 0.5
+) -> tuple[TransferFunction, int]:
     """Filter one controller path so that it becomes proper.
 
     Parameters
@@ -124,8 +129,9 @@ def apply_filter(H: TransferFunction, family: str, fc_hz: float, order: int | No
     if order is None:
         order = need
     if order < need:
-        raise ConfigError("filter order", f"at least {need} (the relative degree of the ideal controller)",
-                          order)
+        raise ConfigError(
+            "filter order", f"at least {need} (the relative degree of the ideal controller)", order
+        )
     if not (np.isfinite(fc_hz) and fc_hz > 0):
         raise ConfigError("fc", "a positive cut-off frequency in Hz", fc_hz)
     if order == 0 or H.is_zero:

@@ -27,8 +27,9 @@ form              ideal controller (no filter)                report
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Optional
+from typing import Any
 
 import numpy as np
 
@@ -103,14 +104,14 @@ class VirtualModel:
 
     H_zag: TransferFunction
     H_zw: TransferFunction
-    H_zfh: Optional[TransferFunction] = None
+    H_zfh: TransferFunction | None = None
     kind: str = "linear"
-    name: Optional[str] = None
+    name: str | None = None
     parameters: Mapping[str, Any] = field(default_factory=dict)
     equivalent: Any = None
 
     @classmethod
-    def rigid(cls) -> "VirtualModel":
+    def rigid(cls) -> VirtualModel:
         """The zero-impedance environment of acceleration tracking: ``H_zag = 1``, ``H_zw = 0`` (Section 8.1)."""
         return cls(TransferFunction.constant(1.0), TransferFunction.constant(0.0), None, kind="rigid")
 
@@ -135,7 +136,7 @@ class IdealController:
     reference: str
     H_uz: TransferFunction
     H_uw: TransferFunction
-    H_ufh: Optional[TransferFunction] = None
+    H_ufh: TransferFunction | None = None
 
     def paths(self) -> dict[str, TransferFunction]:
         """The controller paths by name (``"z"``, ``"w"``, ``"fh"``)."""
@@ -157,7 +158,7 @@ def imaginary_axis(roots, rtol: float = AXIS_RTOL) -> np.ndarray:
     return r[np.abs(r.real) <= rtol * np.maximum(np.abs(r), 1.0)]
 
 
-def environment(form: str, vs: Optional[VirtualModel]) -> VirtualModel:
+def environment(form: str, vs: VirtualModel | None) -> VirtualModel:
     """The VS model a design of ``form`` answers to: the rigid environment for tracking or without a VS."""
     return VirtualModel.rigid() if form == "tracking" or vs is None else vs
 
@@ -181,14 +182,16 @@ def check_table(table: TableModel) -> None:
             worst = max(H.poles(), key=lambda p: p.real)
             raise UnstableSystemError(
                 f"table {name} has a pole at {worst.real:.4g}{worst.imag:+.4g}j rad/s (unstable table loop); "
-                "reduce Ke or Kp, or shorten loop_time")
+                "reduce Ke or Kp, or shorten loop_time"
+            )
         if not H.is_proper:
             raise UnstableDesignError(f"table {name} is improper (relative degree {H.relative_degree})")
     bad = right_half_plane(table.H_zu.zeros())
     if bad.size:
         raise UnstableDesignError(
             f"H_zu has a right-half-plane zero at {bad[0].real:.4g}{bad[0].imag:+.4g}j rad/s: "
-            "its inverse (the MIL controller) would be unstable")
+            "its inverse (the MIL controller) would be unstable"
+        )
 
 
 def check_virtual(vs: VirtualModel) -> None:
@@ -207,14 +210,16 @@ def check_virtual(vs: VirtualModel) -> None:
             continue
         if not H.is_proper:
             raise UnstableDesignError(
-                f"virtual system {name} is improper (relative degree {H.relative_degree}): not causal")
+                f"virtual system {name} is improper (relative degree {H.relative_degree}): not causal"
+            )
         bad = right_half_plane(H.poles())
         if bad.size:
             raise UnstableDesignError(
-                f"virtual system {name} has an unstable pole at {bad[0].real:.4g}{bad[0].imag:+.4g}j rad/s")
+                f"virtual system {name} has an unstable pole at {bad[0].real:.4g}{bad[0].imag:+.4g}j rad/s"
+            )
 
 
-def ideal_controller(form: str, table: TableModel, vs: Optional[VirtualModel] = None) -> IdealController:
+def ideal_controller(form: str, table: TableModel, vs: VirtualModel | None = None) -> IdealController:
     """The unfiltered controller of one form (Eq 1-4, 1-6, 6-3, 6-6, 6-7).
 
     Parameters
@@ -255,7 +260,9 @@ def ideal_controller(form: str, table: TableModel, vs: Optional[VirtualModel] = 
     H_ufh = None
     if form == "vs-specific":
         if vs.H_zfh is None:
-            raise ValueError(f"the vs-specific form needs H_zfh; the {vs.kind} system is linear "
-                             "(use form 'general' or 'standardized')")
+            raise ValueError(
+                f"the vs-specific form needs H_zfh; the {vs.kind} system is linear "
+                "(use form 'general' or 'standardized')"
+            )
         H_ufh = vs.H_zfh.div_cancel(H_zu)
     return IdealController(form, REFERENCE_INPUT[form], H_uz, H_uw, H_ufh)

@@ -43,22 +43,47 @@ FORMAT = "impedance-mil/design"
 #: Current schema version.
 VERSION = 1
 
-_REQUIRED = ("format", "version", "software_version", "form", "fc_hz", "filter", "loop_time_s",
-             "table", "vs", "H_uz", "H_uw", "H_ufh", "constraints", "feasible_fc_hz", "warnings")
+_REQUIRED = (
+    "format",
+    "version",
+    "software_version",
+    "form",
+    "fc_hz",
+    "filter",
+    "loop_time_s",
+    "table",
+    "vs",
+    "H_uz",
+    "H_uw",
+    "H_ufh",
+    "constraints",
+    "feasible_fc_hz",
+    "warnings",
+)
 
 
 def design_to_dict(design: ControllerDesign) -> dict[str, Any]:
     """The design file document of ``design``."""
     doc = {"format": FORMAT, "version": VERSION, "software_version": design.software_version}
     body = design.to_json()
-    doc.update({
-        "form": body["form"], "reference": body["reference"], "sign_convention": body["sign_convention"],
-        "fc_hz": body["fc_hz"], "filter": body["filter"], "loop_time_s": body["loop_time_s"],
-        "table": dict(design.table), "vs": design.vs,
-        "H_uz": body["H_uz"], "H_uw": body["H_uw"], "H_ufh": body["H_ufh"],
-        "constraints": body["constraints"], "feasible_fc_hz": body["feasible_fc_hz"],
-        "warnings": body["warnings"],
-    })
+    doc.update(
+        {
+            "form": body["form"],
+            "reference": body["reference"],
+            "sign_convention": body["sign_convention"],
+            "fc_hz": body["fc_hz"],
+            "filter": body["filter"],
+            "loop_time_s": body["loop_time_s"],
+            "table": dict(design.table),
+            "vs": design.vs,
+            "H_uz": body["H_uz"],
+            "H_uw": body["H_uw"],
+            "H_ufh": body["H_ufh"],
+            "constraints": body["constraints"],
+            "feasible_fc_hz": body["feasible_fc_hz"],
+            "warnings": body["warnings"],
+        }
+    )
     return json_safe(doc)
 
 
@@ -107,22 +132,32 @@ def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> Control
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise DataFileError(where, f"not an impedance-mil design file (expected format {FORMAT!r})")
     if doc.get("version") != VERSION:
-        raise DataFileError(where, f"design file version {doc.get('version')!r} is not supported "
-                            f"(expected {VERSION})")
+        raise DataFileError(
+            where, f"design file version {doc.get('version')!r} is not supported (expected {VERSION})"
+        )
     missing = [k for k in _REQUIRED if k not in doc]
     if missing:
         raise DataFileError(where, f"missing field {missing[0]!r}")
     if doc["form"] not in FORMS:
         raise DataFileError(where, f"form {doc['form']!r} is not one of {', '.join(FORMS)}")
     try:
-        H = {k: (None if doc[k] is None else TransferFunction.from_dict(doc[k]))
-             for k in ("H_uz", "H_uw", "H_ufh")}
+        H = {
+            k: (None if doc[k] is None else TransferFunction.from_dict(doc[k]))
+            for k in ("H_uz", "H_uw", "H_ufh")
+        }
         flt = doc["filter"]
-        spec = FilterSpec(str(flt["family"]), int(flt["order_z"]), int(flt["order_w"]),
-                          int(flt.get("order_fh", 0)), float(flt.get("ripple_db", 0.5)),
-                          None if flt.get("fc_w_hz") is None else float(flt["fc_w_hz"]))
-        constraints = tuple(ConstraintResult(**{k: (v if v is not None else math.nan)
-                                                for k, v in c.items()}) for c in doc["constraints"])
+        spec = FilterSpec(
+            str(flt["family"]),
+            int(flt["order_z"]),
+            int(flt["order_w"]),
+            int(flt.get("order_fh", 0)),
+            float(flt.get("ripple_db", 0.5)),
+            None if flt.get("fc_w_hz") is None else float(flt["fc_w_hz"]),
+        )
+        constraints = tuple(
+            ConstraintResult(**{k: (v if v is not None else math.nan) for k, v in c.items()})
+            for c in doc["constraints"]
+        )
         fc, loop = float(doc["fc_hz"]), float(doc["loop_time_s"])
         feas = doc["feasible_fc_hz"]
         feas = None if feas is None else (float(feas[0]), float(feas[1]))
@@ -132,11 +167,24 @@ def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> Control
         raise DataFileError(where, "H_uz and H_uw must be transfer functions")
     for name, tf in H.items():
         if tf is not None and not tf.is_proper:
-            raise DataFileError(where, f"{name} is improper: a design file holds filtered, proper controllers")
+            raise DataFileError(
+                where, f"{name} is improper: a design file holds filtered, proper controllers"
+            )
     if not (fc > 0 and loop >= 0):
         raise DataFileError(where, "fc_hz must be positive and loop_time_s non-negative")
     return ControllerDesign(
-        form=doc["form"], reference=doc.get("reference", REFERENCE_INPUT[doc["form"]]), fc_hz=fc,
-        filter=spec, loop_time_s=loop, H_uz=H["H_uz"], H_uw=H["H_uw"], H_ufh=H["H_ufh"],
-        constraints=constraints, feasible_fc_hz=feas, warnings=tuple(str(w) for w in doc["warnings"]),
-        table=dict(doc["table"] or {}), vs=doc["vs"], software_version=str(doc["software_version"]))
+        form=doc["form"],
+        reference=doc.get("reference", REFERENCE_INPUT[doc["form"]]),
+        fc_hz=fc,
+        filter=spec,
+        loop_time_s=loop,
+        H_uz=H["H_uz"],
+        H_uw=H["H_uw"],
+        H_ufh=H["H_ufh"],
+        constraints=constraints,
+        feasible_fc_hz=feas,
+        warnings=tuple(str(w) for w in doc["warnings"]),
+        table=dict(doc["table"] or {}),
+        vs=doc["vs"],
+        software_version=str(doc["software_version"]),
+    )

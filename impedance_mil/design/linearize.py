@@ -143,12 +143,18 @@ def harmonic_cycle(vs, amplitude_in: float, frequency_hz: float) -> HarmonicCycl
     # Resolve the hysteretic transition (a displacement of about u_y) with >= 50 steps.
     steps = int(min(max(4000, 50 * TWO_PI * amplitude_in / u_y), 400000))
     force = np.zeros(steps)
-    harmonic_force_cycle(vs.kind_code, vs.parameter_array(), float(amplitude_in), TWO_PI * frequency_hz,
-                         steps, CYCLES, force)
+    harmonic_force_cycle(
+        vs.kind_code, vs.parameter_array(), float(amplitude_in), TWO_PI * frequency_hz, steps, CYCLES, force
+    )
     phase = TWO_PI * np.arange(steps) / steps
     N = complex(2.0 * np.mean(force * np.exp(-1j * phase)) / amplitude_in)
-    return HarmonicCycle(float(amplitude_in), float(frequency_hz), N, float(np.pi * amplitude_in**2 * N.imag),
-                         float((force.max() - force.min()) / (2.0 * amplitude_in)))
+    return HarmonicCycle(
+        float(amplitude_in),
+        float(frequency_hz),
+        N,
+        float(np.pi * amplitude_in**2 * N.imag),
+        float((force.max() - force.min()) / (2.0 * amplitude_in)),
+    )
 
 
 @dataclass(frozen=True)
@@ -202,16 +208,25 @@ class EquivalentLinearization:
         if self.method == "equivalent-viscous":
             return self.H_zw.frequency_response(f_hz)
         w = TWO_PI * np.asarray(f_hz, dtype=float)
-        return -w**2 / (self.stiffness(f_hz) - self.m_vs * w**2)
+        return -(w**2) / (self.stiffness(f_hz) - self.m_vs * w**2)
 
     def to_dict(self) -> dict:
-        return {"method": self.method, "amplitude_in": self.amplitude_in, "effective_hz": self.effective_hz,
-                "k_eff": self.k_eff, "beta_eff": self.beta_eff, "c_eq": self.c_eq}
+        return {
+            "method": self.method,
+            "amplitude_in": self.amplitude_in,
+            "effective_hz": self.effective_hz,
+            "k_eff": self.k_eff,
+            "beta_eff": self.beta_eff,
+            "c_eq": self.c_eq,
+        }
 
 
-def equivalent_linearization(vs, amplitude_in: float = DEFAULT_AMPLITUDE_IN,
-                             method: str = "describing-function",
-                             article_weight_lbf: float = DEFAULT_ARTICLE_WEIGHT_LBF) -> EquivalentLinearization:
+def equivalent_linearization(
+    vs,
+    amplitude_in: float = DEFAULT_AMPLITUDE_IN,
+    method: str = "describing-function",
+    article_weight_lbf: float = DEFAULT_ARTICLE_WEIGHT_LBF,
+) -> EquivalentLinearization:
     """Linearize a built-in VS's isolator at a design displacement amplitude.
 
     Parameters
@@ -245,7 +260,7 @@ def equivalent_linearization(vs, amplitude_in: float = DEFAULT_AMPLITUDE_IN,
     grid = np.array([harmonic_cycle(vs, amplitude_in, f).stiffness for f in GRID_HZ])
     M = vs.m_vs + article_weight_lbf / G0
     f_eff = 1.0
-    for _ in range(20):        # fixed point: the FP's friction makes the loop (weakly) rate-dependent
+    for _ in range(20):  # fixed point: the FP's friction makes the loop (weakly) rate-dependent
         cyc = harmonic_cycle(vs, amplitude_in, f_eff)
         new = float(np.sqrt(max(cyc.secant_stiffness, 1e-12) / M) / TWO_PI)
         if abs(new - f_eff) <= 1e-6 * f_eff:
@@ -255,5 +270,15 @@ def equivalent_linearization(vs, amplitude_in: float = DEFAULT_AMPLITUDE_IN,
     beta = cyc.energy / (TWO_PI * k_eff * amplitude_in**2)
     c_eq = cyc.energy / (np.pi * TWO_PI * f_eff * amplitude_in**2)
     H = TransferFunction([1.0, 0.0, 0.0], [vs.m_vs, c_eq, k_eff])
-    return EquivalentLinearization(method, float(amplitude_in), float(vs.m_vs), GRID_HZ.copy(), grid,
-                                   f_eff, float(k_eff), float(beta), float(c_eq), H)
+    return EquivalentLinearization(
+        method,
+        float(amplitude_in),
+        float(vs.m_vs),
+        GRID_HZ.copy(),
+        grid,
+        f_eff,
+        float(k_eff),
+        float(beta),
+        float(c_eq),
+        H,
+    )

@@ -102,8 +102,13 @@ def is_passive_stable(H: TransferFunction, rtol: float = AXIS_RTOL) -> bool:
     return True
 
 
-def passivity(H_vw: TransferFunction, band_hz: tuple[float, float], loop_time_s: float = 0.0,
-              extra_tolerance_deg: float = 0.0, response=None) -> PassivityResult:
+def passivity(
+    H_vw: TransferFunction,
+    band_hz: tuple[float, float],
+    loop_time_s: float = 0.0,
+    extra_tolerance_deg: float = 0.0,
+    response=None,
+) -> PassivityResult:
     """Passivity margin of a force-velocity transfer function over a band.
 
     Parameters
@@ -151,8 +156,12 @@ def _refined_minimum(fun, f: np.ndarray) -> tuple[float, float]:
         a, b = logf[max(i - 1, 0)], logf[min(i + 1, f.size - 1)]
         if b <= a:
             continue
-        res = minimize_scalar(lambda x: float(fun(np.array([10.0 ** x]))[0]), bounds=(a, b),
-                              method="bounded", options={"xatol": 1e-6})
+        res = minimize_scalar(
+            lambda x: float(fun(np.array([10.0**x]))[0]),
+            bounds=(a, b),
+            method="bounded",
+            options={"xatol": 1e-6},
+        )
         if res.fun < best:
-            best_f, best = float(10.0 ** res.x), float(res.fun)
+            best_f, best = float(10.0**res.x), float(res.fun)
     return best_f, best

@@ -6,5 +6,14 @@
 from .discretize import ChannelRealization, DiscreteController, discretize, with_leak
 from .runtime import MILRuntime, MILStep, MILTrace, mil_step_kernel, precision_dtype
 
-__all__ = ["ChannelRealization", "DiscreteController", "MILRuntime", "MILStep", "MILTrace",
-           "discretize", "mil_step_kernel", "precision_dtype", "with_leak"]
+__all__ = [
+    "ChannelRealization",
+    "DiscreteController",
+    "MILRuntime",
+    "MILStep",
+    "MILTrace",
+    "discretize",
+    "mil_step_kernel",
+    "precision_dtype",
+    "with_leak",
+]

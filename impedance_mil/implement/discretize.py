@@ -30,16 +30,25 @@ about ``2*leak_hz/f`` in phase [rad] at frequency ``f``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
 from ..errors import ConfigError, UnstableDesignError
 from ..systems import TransferFunction
 from ..units import TWO_PI
-from .realization import (METHODS, DiscreteZPK, Section, canonical_realization, cascade,
-                          continuous_zpk, discrete_zpk, sections_from_zpk)
+from .realization import (
+    METHODS,
+    DiscreteZPK,
+    Section,
+    canonical_realization,
+    cascade,
+    continuous_zpk,
+    discrete_zpk,
+    sections_from_zpk,
+)
 
 #: Realizations offered by :func:`discretize`.
 REALIZATIONS = ("sections", "canonical")
@@ -101,8 +110,7 @@ class ChannelRealization:
         n = self.n_states
         out = np.empty(f.size, complex)
         for i, zz in enumerate(np.exp(1j * TWO_PI * f * self.zpk.loop_time_s)):
-            out[i] = self.D + (self.C @ np.linalg.solve(zz * np.eye(n) - self.A, self.B)
-                               if n else 0.0)
+            out[i] = self.D + (self.C @ np.linalg.solve(zz * np.eye(n) - self.A, self.B) if n else 0.0)
         return out
 
 
@@ -152,12 +160,20 @@ class DiscreteController:
     def info(self) -> dict:
         """Plain summary (method, loop time, orders, integrators, sections)."""
         return {
-            "loop_time_s": self.loop_time_s, "method": self.method,
-            "prewarp_hz": self.prewarp_hz, "fc_hz": self.fc_hz, "leak_hz": self.leak_hz,
+            "loop_time_s": self.loop_time_s,
+            "method": self.method,
+            "prewarp_hz": self.prewarp_hz,
+            "fc_hz": self.fc_hz,
+            "leak_hz": self.leak_hz,
             "realization": self.realization,
-            "channels": {ch.name: {"n_states": ch.n_states, "n_integrators": ch.n_integrators,
-                                   "sections": [s.form for s in ch.sections]}
-                         for ch in self.channels},
+            "channels": {
+                ch.name: {
+                    "n_states": ch.n_states,
+                    "n_integrators": ch.n_integrators,
+                    "sections": [s.form for s in ch.sections],
+                }
+                for ch in self.channels
+            },
         }
 
 
@@ -179,15 +195,22 @@ def with_leak(tf: TransferFunction, leak_hz: float) -> TransferFunction:
 
 def _check(tf: TransferFunction, name: str, loop_time_s: float) -> None:
     if not tf.is_proper:
-        raise ConfigError(name, "a proper transfer function (apply the filters of Step 2)",
-                          f"relative degree {tf.relative_degree}")
+        raise ConfigError(
+            name,
+            "a proper transfer function (apply the filters of Step 2)",
+            f"relative degree {tf.relative_degree}",
+        )
     _, poles, _, _ = continuous_zpk(tf)
     if np.any(poles.real > 0):
-        raise UnstableDesignError(f"{name} has poles in the right half plane: "
-                                  f"{np.round(poles[poles.real > 0], 3).tolist()} rad/s")
+        raise UnstableDesignError(
+            f"{name} has poles in the right half plane: {np.round(poles[poles.real > 0], 3).tolist()} rad/s"
+        )
     if np.any(np.abs(poles) * loop_time_s > np.pi):
-        raise ConfigError(f"{name} poles", "all below the Nyquist frequency of the loop",
-                          f"{np.max(np.abs(poles)) / TWO_PI:.1f} Hz")
+        raise ConfigError(
+            f"{name} poles",
+            "all below the Nyquist frequency of the loop",
+            f"{np.max(np.abs(poles)) / TWO_PI:.1f} Hz",
+        )
 
 
 def _channel(name, tf, dt, method, prewarp_hz, realization, norm_hz) -> ChannelRealization:
@@ -202,11 +225,18 @@ def _channel(name, tf, dt, method, prewarp_hz, realization, norm_hz) -> ChannelR
     return ChannelRealization(name, A, B, C, D, tf, zpk, sections, n1)
 
 
-def discretize(H_uz: TransferFunction, H_uw: TransferFunction, loop_time_s: float, *,
-               method: str = "tustin", prewarp_hz: float | None = None,
-               fc_hz: float | None = None, leak_hz: float | None = None,
-               realization: str = "sections",
-               source: Mapping[str, Any] | None = None) -> DiscreteController:
+def discretize(
+    H_uz: TransferFunction,
+    H_uw: TransferFunction,
+    loop_time_s: float,
+    *,
+    method: str = "tustin",
+    prewarp_hz: float | None = None,
+    fc_hz: float | None = None,
+    leak_hz: float | None = None,
+    realization: str = "sections",
+    source: Mapping[str, Any] | None = None,
+) -> DiscreteController:
     """Discretize the standardized MIL controller (report Section 6.5, Steps 4-5).
 
     Parameters
@@ -249,8 +279,12 @@ def discretize(H_uz: TransferFunction, H_uw: TransferFunction, loop_time_s: floa
     nyquist = 0.5 / loop_time_s
     for key, f in (("fc_hz", fc_hz), ("prewarp_hz", prewarp_hz)):
         if f is not None and not 0 < f < nyquist:
-            raise ConfigError(key, f"a frequency in (0, {nyquist:g}) Hz, below the Nyquist "
-                                   f"frequency of the {loop_time_s * 1e6:g} us loop", f)
+            raise ConfigError(
+                key,
+                f"a frequency in (0, {nyquist:g}) Hz, below the Nyquist "
+                f"frequency of the {loop_time_s * 1e6:g} us loop",
+                f,
+            )
     if method not in METHODS:
         raise ConfigError("method", f"one of {', '.join(METHODS)}", method)
     if realization not in REALIZATIONS:
@@ -264,8 +298,9 @@ def discretize(H_uz: TransferFunction, H_uw: TransferFunction, loop_time_s: floa
     norm_hz = 0.25 * (fc_hz if fc_hz is not None else 0.1 * nyquist)
     z = _channel("H_uz", H_uz, loop_time_s, method, prewarp_hz, realization, norm_hz)
     w = _channel("H_uw", H_uw, loop_time_s, method, prewarp_hz, realization, norm_hz)
-    return DiscreteController(z, w, float(loop_time_s), method, prewarp_hz, fc_hz, leak_hz,
-                              realization, dict(source or {}))
+    return DiscreteController(
+        z, w, float(loop_time_s), method, prewarp_hz, fc_hz, leak_hz, realization, dict(source or {})
+    )
 
 
 __all__ = ["ChannelRealization", "DiscreteController", "Section", "discretize", "with_leak"]

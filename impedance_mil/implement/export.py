@@ -37,9 +37,14 @@ COEFF_FORMAT = "impedance-mil/coefficients"
 LOOP_TIME_RTOL = 1e-9
 
 
-def controller_from_design(design, *, loop_time_s: float | None = None, method: str = "tustin",
-                           prewarp_hz: float | None = None,
-                           leak_hz: float | None = None) -> DiscreteController:
+def controller_from_design(
+    design,
+    *,
+    loop_time_s: float | None = None,
+    method: str = "tustin",
+    prewarp_hz: float | None = None,
+    leak_hz: float | None = None,
+) -> DiscreteController:
     """Discretize a :class:`~impedance_mil.design.ControllerDesign` at its loop time.
 
     Parameters
@@ -52,17 +57,37 @@ def controller_from_design(design, *, loop_time_s: float | None = None, method: 
         See :func:`~impedance_mil.implement.discretize`.
     """
     if design.H_ufh is not None:
-        raise ConfigError("H_ufh", "a two-input controller (standardized or tracking form); "
-                                   "the f_h path of the vs-specific form is not implemented", "present")
-    if loop_time_s is not None and not math.isclose(loop_time_s, design.loop_time_s,
-                                                    rel_tol=LOOP_TIME_RTOL):
-        raise ConfigError("loop_time_s", f"the design's loop time {design.loop_time_s} s "
-                                         "(the table model was built for it)", loop_time_s)
-    source = {"form": design.form, "reference": design.reference, "fc_hz": design.fc_hz,
-              "filter": design.filter.to_dict(), "software_version": design.software_version,
-              "table": dict(design.table), "vs": design.vs}
-    return discretize(design.H_uz, design.H_uw, design.loop_time_s, method=method,
-                      prewarp_hz=prewarp_hz, fc_hz=design.fc_hz, leak_hz=leak_hz, source=source)
+        raise ConfigError(
+            "H_ufh",
+            "a two-input controller (standardized or tracking form); "
+            "the f_h path of the vs-specific form is not implemented",
+            "present",
+        )
+    if loop_time_s is not None and not math.isclose(loop_time_s, design.loop_time_s, rel_tol=LOOP_TIME_RTOL):
+        raise ConfigError(
+            "loop_time_s",
+            f"the design's loop time {design.loop_time_s} s (the table model was built for it)",
+            loop_time_s,
+        )
+    source = {
+        "form": design.form,
+        "reference": design.reference,
+        "fc_hz": design.fc_hz,
+        "filter": design.filter.to_dict(),
+        "software_version": design.software_version,
+        "table": dict(design.table),
+        "vs": design.vs,
+    }
+    return discretize(
+        design.H_uz,
+        design.H_uw,
+        design.loop_time_s,
+        method=method,
+        prewarp_hz=prewarp_hz,
+        fc_hz=design.fc_hz,
+        leak_hz=leak_hz,
+        source=source,
+    )
 
 
 #: Relative tolerance when comparing a requested VS with the designed one.
@@ -116,16 +141,23 @@ def designed_vs(design, requested=None, requested_name: str = "") -> ExportVS:
     if entry is None:
         if requested is None:
             return ExportVS(None, "", "none")
-        return ExportVS(requested, requested_name, "requested",
-                        f"the design was made without a VS: constraints I and III were not checked "
-                        f"for {requested_name or requested.kind}")
+        return ExportVS(
+            requested,
+            requested_name,
+            "requested",
+            f"the design was made without a VS: constraints I and III were not checked "
+            f"for {requested_name or requested.kind}",
+        )
     if not isinstance(entry, dict):
         raise ConfigError("design vs", "a table with kind and parameters", type(entry).__name__)
     vs = from_parameters(entry.get("kind"), entry.get("parameters"), where="design vs.")
     name = str(entry.get("name") or vs.kind)
     if requested is not None and not _same_vs(vs, requested):
-        raise ConfigError("--vs", f"the designed VS {name} (omit --vs to export it; design again "
-                                  "to export another VS)", requested_name or requested.kind)
+        raise ConfigError(
+            "--vs",
+            f"the designed VS {name} (omit --vs to export it; design again to export another VS)",
+            requested_name or requested.kind,
+        )
     return ExportVS(vs, name, "design")
 
 
@@ -149,31 +181,54 @@ def coefficients_document(controller: DiscreteController, precision: str) -> dic
     for ch in controller.channels:
         inp, unit = units[ch.name]
         channels[ch.name] = {
-            "input": inp, "input_unit": unit, "output_unit": "in", "n_states": ch.n_states,
+            "input": inp,
+            "input_unit": unit,
+            "output_unit": "in",
+            "n_states": ch.n_states,
             "n_integrators": ch.n_integrators,
-            "A": _mat(ch.A, dtype), "B": _mat(ch.B, dtype), "C": _mat(ch.C, dtype),
-            "D": _mat(ch.D, dtype), "A_minus_I": _mat(ch.A - np.eye(ch.n_states), dtype),
+            "A": _mat(ch.A, dtype),
+            "B": _mat(ch.B, dtype),
+            "C": _mat(ch.C, dtype),
+            "D": _mat(ch.D, dtype),
+            "A_minus_I": _mat(ch.A - np.eye(ch.n_states), dtype),
             "sections": [s.form for s in ch.sections],
             "continuous": ch.continuous.to_dict(),
         }
-    return {"format": COEFF_FORMAT, "version": 1, "software_version": _pkg_version,
-            "loop_time_s": controller.loop_time_s, "precision": precision,
-            "method": controller.method, "prewarp_hz": controller.prewarp_hz,
-            "fc_hz": controller.fc_hz, "leak_hz": controller.leak_hz,
-            "realization": controller.realization,
-            "sign_convention": "u = H_uz*z_vs + H_uw*w",
-            "state_update": "x[k+1] = x[k] + ((A - I) x[k] + B v[k]) (compensated summation); "
-                            "y[k] = C x[k] + D v[k]",
-            "units": {"z_vs": "in/s^2", "w": "lbf", "u": "in", "loop_time_s": "s", "frequencies": "Hz"},
-            "channels": channels, "design": controller.source}
+    return {
+        "format": COEFF_FORMAT,
+        "version": 1,
+        "software_version": _pkg_version,
+        "loop_time_s": controller.loop_time_s,
+        "precision": precision,
+        "method": controller.method,
+        "prewarp_hz": controller.prewarp_hz,
+        "fc_hz": controller.fc_hz,
+        "leak_hz": controller.leak_hz,
+        "realization": controller.realization,
+        "sign_convention": "u = H_uz*z_vs + H_uw*w",
+        "state_update": "x[k+1] = x[k] + ((A - I) x[k] + B v[k]) (compensated summation); "
+        "y[k] = C x[k] + D v[k]",
+        "units": {"z_vs": "in/s^2", "w": "lbf", "u": "in", "loop_time_s": "s", "frequencies": "Hz"},
+        "channels": channels,
+        "design": controller.source,
+    }
 
 
 def coefficients_csv(controller: DiscreteController, precision: str) -> str:
     """CSV ``channel,matrix,row,col,value`` after ``#`` header lines (loop time, units ...)."""
     doc = coefficients_document(controller, precision)
     buf = io.StringIO()
-    for key in ("format", "software_version", "loop_time_s", "precision", "method", "fc_hz",
-                "leak_hz", "sign_convention", "state_update"):
+    for key in (
+        "format",
+        "software_version",
+        "loop_time_s",
+        "precision",
+        "method",
+        "fc_hz",
+        "leak_hz",
+        "sign_convention",
+        "state_update",
+    ):
         buf.write(f"# {key}: {doc[key]}\n")
     buf.write("# units: z_vs in/s^2, w lbf, u in\n")
     writer = csv.writer(buf, lineterminator="\n")
@@ -188,8 +243,14 @@ def coefficients_csv(controller: DiscreteController, precision: str) -> str:
     return buf.getvalue()
 
 
-def render(controller: DiscreteController, fmt: str, precision: str = "single",
-           prefix: str = "imil", vs=None, design_summary: str = "") -> dict[str, str]:
+def render(
+    controller: DiscreteController,
+    fmt: str,
+    precision: str = "single",
+    prefix: str = "imil",
+    vs=None,
+    design_summary: str = "",
+) -> dict[str, str]:
     """``{file name: text}`` of one export format (no file is written)."""
     if fmt not in FORMATS:
         raise ConfigError("--format", "one of " + ", ".join(FORMATS), fmt)
@@ -201,8 +262,10 @@ def render(controller: DiscreteController, fmt: str, precision: str = "single",
     check_c_identifier(prefix)
     check_st_identifier(prefix)
     if fmt == "json":
-        return {f"{prefix}_coefficients.json":
-                json.dumps(coefficients_document(controller, precision), indent=2) + "\n"}
+        return {
+            f"{prefix}_coefficients.json": json.dumps(coefficients_document(controller, precision), indent=2)
+            + "\n"
+        }
     return {f"{prefix}_coefficients.csv": coefficients_csv(controller, precision)}
 
 

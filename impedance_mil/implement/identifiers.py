@@ -7,15 +7,18 @@ import re
 from ..errors import ConfigError
 
 #: C99 keywords, C11 additions and names a prefix must not shadow.
-C_KEYWORDS = frozenset("""
+C_KEYWORDS = frozenset(
+    """
 auto break case char const continue default do double else enum extern float for goto if
 inline int long register restrict return short signed sizeof static struct switch typedef
 union unsigned void volatile while _Bool _Complex _Imaginary _Alignas _Alignof _Atomic
 _Generic _Noreturn _Static_assert _Thread_local bool true false NULL main
-""".split())
+""".split()
+)
 
 #: IEC 61131-3 (3rd edition) keywords and standard type names, upper case.
-ST_KEYWORDS = frozenset("""
+ST_KEYWORDS = frozenset(
+    """
 ABS ACTION AND ANY ANY_BIT ANY_DATE ANY_INT ANY_NUM ANY_REAL ARRAY AT BOOL BY BYTE CASE
 CONFIGURATION CONSTANT DATE DATE_AND_TIME DINT DO DT DWORD ELSE ELSIF END_ACTION END_CASE
 END_CONFIGURATION END_FOR END_FUNCTION END_FUNCTION_BLOCK END_IF END_PROGRAM END_REPEAT
@@ -28,7 +31,8 @@ VAR_INPUT VAR_IN_OUT VAR_OUTPUT VAR_TEMP WHILE WITH WORD WSTRING XOR SQRT LN LOG
 TAN ASIN ACOS ATAN EXPT MOVE SEL MAX MIN LIMIT MUX METHOD INTERFACE CLASS EXTENDS
 IMPLEMENTS THIS SUPER ABSTRACT FINAL OVERRIDE PUBLIC PRIVATE PROTECTED INTERNAL REF_TO
 REF NULL
-""".split())
+""".split()
+)
 
 _C_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _ST_IDENT = re.compile(r"[A-Za-z]([A-Za-z0-9]|_(?=[A-Za-z0-9]))*\Z")
@@ -54,8 +58,9 @@ def check_st_identifier(name: str, key: str = "prefix") -> str:
     not end with one; keywords are case-insensitive.
     """
     if not isinstance(name, str) or not _ST_IDENT.match(name):
-        raise ConfigError(key, "an IEC 61131-3 identifier (letter, then letters, digits, "
-                               "single underscores)", name)
+        raise ConfigError(
+            key, "an IEC 61131-3 identifier (letter, then letters, digits, single underscores)", name
+        )
     if name.upper() in ST_KEYWORDS:
         raise ConfigError(key, "an IEC 61131-3 identifier that is not a keyword", name)
     return name

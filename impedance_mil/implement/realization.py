@@ -130,8 +130,13 @@ def _gain_at(zeros, poles, gain, dt, f_ref_hz, h_ref):
     return float(np.abs(h_ref) / np.abs(shape)) * np.sign(gain)
 
 
-def discrete_zpk(tf: TransferFunction, dt: float, method: str = "tustin",
-                 prewarp_hz: float | None = None, f_ref_hz: float = 1.0) -> DiscreteZPK:
+def discrete_zpk(
+    tf: TransferFunction,
+    dt: float,
+    method: str = "tustin",
+    prewarp_hz: float | None = None,
+    f_ref_hz: float = 1.0,
+) -> DiscreteZPK:
     """Map a proper continuous transfer function to the z plane.
 
     Parameters
@@ -154,8 +159,11 @@ def discrete_zpk(tf: TransferFunction, dt: float, method: str = "tustin",
         Poles at s = 0 are mapped exactly to z = 1 by every method.
     """
     if not tf.is_proper:
-        raise ConfigError("transfer function", "a proper transfer function (filter applied)",
-                          f"relative degree {tf.relative_degree}")
+        raise ConfigError(
+            "transfer function",
+            "a proper transfer function (filter applied)",
+            f"relative degree {tf.relative_degree}",
+        )
     zeros, poles, gain, _ = continuous_zpk(tf)
     if method == "tustin":
         zd, pd, k = _map_tustin(zeros, poles, gain, dt, prewarp_hz)
@@ -221,9 +229,11 @@ def _take_zeros(groups, zeros) -> list[tuple]:
         need = len(g)
         p = g[0]
         picked: list[complex] = []
-        if need == 2 and pool_c and (len(pool_r) < 2 or
-                                     min(abs(c - p) for c in pool_c)
-                                     <= min(abs(r - p) for r in pool_r)):
+        if (
+            need == 2
+            and pool_c
+            and (len(pool_r) < 2 or min(abs(c - p) for c in pool_c) <= min(abs(r - p) for r in pool_r))
+        ):
             c = min(pool_c, key=lambda c: abs(c - p))
             pool_c.remove(c)
             picked = [c, np.conj(c)]
@@ -249,8 +259,15 @@ def _realize_section(poles, zeros, gain) -> Section:
         r = gain * (p - z1) if z1 is not None else gain
         d = gain if z1 is not None else 0.0
         b = np.sqrt(abs(r)) if r != 0 else 1.0
-        return Section(tuple(poles), tuple(zeros), "first-order", np.array([[p]]),
-                       np.array([b]), np.array([r / b]), float(d))
+        return Section(
+            tuple(poles),
+            tuple(zeros),
+            "first-order",
+            np.array([[p]]),
+            np.array([b]),
+            np.array([r / b]),
+            float(d),
+        )
     p1, p2 = poles
     zs = list(zeros) + [None] * (2 - len(zeros))
     # Numerator and denominator polynomials (monic den) in z.
@@ -266,15 +283,17 @@ def _realize_section(poles, zeros, gain) -> Section:
         beta = np.sqrt(np.hypot(r1, (r0 + r1 * s) / w)) or 1.0
         c1 = r1 / beta
         c2 = -(r0 / beta + c1 * s) / w
-        return Section(tuple(poles), tuple(zeros), "coupled", A, np.array([beta, 0.0]),
-                       np.array([c1, c2]), float(d))
+        return Section(
+            tuple(poles), tuple(zeros), "coupled", A, np.array([beta, 0.0]), np.array([c1, c2]), float(d)
+        )
     a, b = p1.real, p2.real
     A = np.array([[a, 1.0], [0.0, b]])
     beta = np.sqrt(np.hypot(r1, r0 + r1 * a)) or 1.0
     c2 = r1 / beta
     c1 = (r0 + r1 * a) / beta
-    return Section(tuple(poles), tuple(zeros), "triangular", A, np.array([0.0, beta]),
-                   np.array([c1, c2]), float(d))
+    return Section(
+        tuple(poles), tuple(zeros), "triangular", A, np.array([0.0, beta]), np.array([c1, c2]), float(d)
+    )
 
 
 def sections_from_zpk(zpk: DiscreteZPK, f_norm_hz: float) -> list[Section]:

@@ -77,8 +77,7 @@ class MILTrace:
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work,
-                    dt, a_g, w, out):
+def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work, dt, a_g, w, out):
     """One MIL loop of Figure 7.9 (corrected): VS output and RK3 step, then the controller.
 
     Parameters
@@ -116,12 +115,14 @@ def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_v
 
 
 @numba.njit(cache=True, nogil=True)
-def mil_run_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work,
-                   dt, a_g, w, u, z_vs, out):
+def mil_run_kernel(
+    m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work, dt, a_g, w, u, z_vs, out
+):
     """:func:`mil_step_kernel` over whole records; writes ``u`` and ``z_vs``."""
     for k in range(a_g.shape[0]):
-        mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs,
-                        work, dt, a_g[k], w[k], out)
+        mil_step_kernel(
+            m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work, dt, a_g[k], w[k], out
+        )
         u[k] = out[0]
         z_vs[k] = out[1]
 
@@ -157,8 +158,9 @@ class MILRuntime:
     >>> u = rt.step(z_vs=12.0, w=-150.0)                  # doctest: +SKIP
     """
 
-    def __init__(self, controller: DiscreteController, vs=None, precision: str = "single",
-                 compensated: bool = True):
+    def __init__(
+        self, controller: DiscreteController, vs=None, precision: str = "single", compensated: bool = True
+    ):
         self.controller = controller
         self.precision = precision
         self.dtype = precision_dtype(precision)
@@ -171,8 +173,11 @@ class MILRuntime:
         self.vs = vs
         n_vs = vs.n_states if vs is not None else 0
         self.kind_code = int(vs.kind_code) if vs is not None else 0
-        self.vs_params = (vs.parameter_array().astype(self.dtype)
-                          if vs is not None and not self.python_vs else np.zeros(0, self.dtype))
+        self.vs_params = (
+            vs.parameter_array().astype(self.dtype)
+            if vs is not None and not self.python_vs
+            else np.zeros(0, self.dtype)
+        )
         self.x_vs = np.zeros(n_vs, float if self.python_vs else self.dtype)
         self.work = np.zeros(4 * max(n_vs, 1), self.dtype)
         self._out = np.zeros(3, self.dtype)
@@ -199,13 +204,17 @@ class MILRuntime:
 
     def step(self, z_vs: float, w: float) -> float:
         """One controller loop: displacement command ``u`` [in] from ``z_vs`` [in/s**2], ``w`` [lbf]."""
-        return float(controller_step(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp,
-                                     float(z_vs), float(w), self.compensated))
+        return float(
+            controller_step(
+                self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, float(z_vs), float(w), self.compensated
+            )
+        )
 
     def step_parts(self, z_vs: float, w: float) -> tuple[float, float]:
         """:meth:`step` returning ``(u, u_w)`` [in]: the command and its feedback part."""
-        u, u_w = controller_step_parts(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp,
-                                       float(z_vs), float(w), self.compensated)
+        u, u_w = controller_step_parts(
+            self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, float(z_vs), float(w), self.compensated
+        )
         return float(u), float(u_w)
 
     def mil_step(self, a_g: float, w: float) -> MILStep:
@@ -214,9 +223,22 @@ class MILRuntime:
             raise ConfigError("vs", "a virtual system for mil_step (MILRuntime(controller, vs=...))")
         if self.python_vs:
             return self._python_mil_step(float(a_g), float(w))
-        mil_step_kernel(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, self.compensated,
-                        self.kind_code, self.vs_params, self.x_vs, self.work,
-                        self.loop_time_s, float(a_g), float(w), self._out)
+        mil_step_kernel(
+            self.m_z,
+            self.m_w,
+            self.s_z,
+            self.s_w,
+            self.tmp,
+            self.compensated,
+            self.kind_code,
+            self.vs_params,
+            self.x_vs,
+            self.work,
+            self.loop_time_s,
+            float(a_g),
+            float(w),
+            self._out,
+        )
         return MILStep(float(self._out[0]), float(self._out[1]), float(self._out[2]))
 
     def _python_mil_step(self, a_g: float, w: float) -> MILStep:
@@ -235,8 +257,7 @@ class MILRuntime:
         """Step over records ``z_vs`` [in/s**2] and ``w`` [lbf]; return ``u`` [in] (runtime dtype)."""
         zz, ww = self._records(z_vs, w)
         u = np.empty(zz.size, self.dtype)
-        controller_run(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, zz, ww,
-                       self.compensated, u)
+        controller_run(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, zz, ww, self.compensated, u)
         return u
 
     def run_mil(self, a_g, w) -> MILTrace:
@@ -251,9 +272,24 @@ class MILRuntime:
                 step = self._python_mil_step(float(aa[k]), float(ww[k]))
                 u[k], z[k] = step.u, step.z_vs
             return MILTrace(u, z)
-        mil_run_kernel(self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, self.compensated,
-                       self.kind_code, self.vs_params, self.x_vs, self.work,
-                       self.loop_time_s, aa, ww, u, z, self._out)
+        mil_run_kernel(
+            self.m_z,
+            self.m_w,
+            self.s_z,
+            self.s_w,
+            self.tmp,
+            self.compensated,
+            self.kind_code,
+            self.vs_params,
+            self.x_vs,
+            self.work,
+            self.loop_time_s,
+            aa,
+            ww,
+            u,
+            z,
+            self._out,
+        )
         return MILTrace(u, z)
 
     def _records(self, a, b) -> tuple[np.ndarray, np.ndarray]:

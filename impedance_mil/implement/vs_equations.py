@@ -15,8 +15,8 @@ functions ``abs``, ``exp``, ``pow``, ``sign``.
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from ..errors import ConfigError
 from ..virtual import kernels as vk
@@ -58,19 +58,32 @@ _BW = "inv_uy*0.5*pow(abs(h), n)*(1.0 + sign(v*h))*v"
 
 EQUATIONS = {
     vk.KIND_SD: VSEquations(
-        "SD", vk.KIND_SD, vk.PARAM_NAMES[vk.KIND_SD], vk.STATE_NAMES[vk.KIND_SD], (),
+        "SD",
+        vk.KIND_SD,
+        vk.PARAM_NAMES[vk.KIND_SD],
+        vk.STATE_NAMES[vk.KIND_SD],
+        (),
         "k_s*x + c*v",
-        ("v", "(w - k_s*x - c*v)/m_vs - a_g")),
+        ("v", "(w - k_s*x - c*v)/m_vs - a_g"),
+    ),
     vk.KIND_LR: VSEquations(
-        "LR", vk.KIND_LR, vk.PARAM_NAMES[vk.KIND_LR], vk.STATE_NAMES[vk.KIND_LR],
+        "LR",
+        vk.KIND_LR,
+        vk.PARAM_NAMES[vk.KIND_LR],
+        vk.STATE_NAMES[vk.KIND_LR],
         (("inv_uy", "(1.0 - alpha)*k_i/q_d"),),
         "alpha*k_i*x + c*v + q_d*h",
-        ("v", "(w - alpha*k_i*x - c*v - q_d*h)/m_vs - a_g", "inv_uy*v - " + _BW)),
+        ("v", "(w - alpha*k_i*x - c*v - q_d*h)/m_vs - a_g", "inv_uy*v - " + _BW),
+    ),
     vk.KIND_FP: VSEquations(
-        "FP", vk.KIND_FP, vk.PARAM_NAMES[vk.KIND_FP], vk.STATE_NAMES[vk.KIND_FP],
+        "FP",
+        vk.KIND_FP,
+        vk.PARAM_NAMES[vk.KIND_FP],
+        vk.STATE_NAMES[vk.KIND_FP],
         (("mu", "mu_max - (mu_max - mu_min)*exp(-a*abs(v))"), ("inv_uy", "1.0/u_y")),
         "k_s*x + mu*W*h",
-        ("v", "(w - k_s*x - mu*W*h)/m_vs - a_g", "inv_uy*v - " + _BW)),
+        ("v", "(w - k_s*x - mu*W*h)/m_vs - a_g", "inv_uy*v - " + _BW),
+    ),
 }
 
 
@@ -78,8 +91,9 @@ def equations_for(vs) -> VSEquations:
     """The :class:`VSEquations` of a built-in virtual system object."""
     eq = EQUATIONS.get(int(getattr(vs, "kind_code", -1)))
     if eq is None:
-        raise ConfigError("vs", "a built-in virtual system (SD, LR or FP) for code generation",
-                          type(vs).__name__)
+        raise ConfigError(
+            "vs", "a built-in virtual system (SD, LR or FP) for code generation", type(vs).__name__
+        )
     return eq
 
 
@@ -87,8 +101,9 @@ _PREC = {ast.Add: 1, ast.Sub: 1, ast.Mult: 2, ast.Div: 2}
 _OPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/"}
 
 
-def render(expr: str, name: Callable[[str], str], number: Callable[[float], str],
-           call: Callable[[str, list], str]) -> str:
+def render(
+    expr: str, name: Callable[[str], str], number: Callable[[float], str], call: Callable[[str, list], str]
+) -> str:
     """Render a Python-syntax expression, keeping its evaluation order exactly.
 
     Parameters
@@ -99,6 +114,7 @@ def render(expr: str, name: Callable[[str], str], number: Callable[[float], str]
         Renderers for a variable name, a numeric literal, and a function call
         (function name, rendered arguments).
     """
+
     def go(node, parent_prec=0, right=False):
         if isinstance(node, ast.BinOp):
             p = _PREC[type(node.op)]

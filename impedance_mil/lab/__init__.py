@@ -9,8 +9,7 @@
 (True, 100)
 """
 
-from .experiments import (ControlledRun, FrfExperiment, KpStudy, kp_study, run_frf, run_mil,
-                          run_tracking)
+from .experiments import ControlledRun, FrfExperiment, KpStudy, kp_study, run_frf, run_mil, run_tracking
 from .identification import TableIdentification, identify_table, model_response
 from .loop import simulate, simulate_interface
 from .metrics import RunMetrics, evaluate_run
@@ -20,9 +19,29 @@ from .results import RunResult, Trip, load_run, save_run
 from .setup import SafetyLimits, default_sensors, ideal_sensors
 
 __all__ = [
-    "ControlledRun", "FrfExperiment", "KpStudy", "Measurements", "PlantInterface", "RunMetrics",
-    "RunResult", "SafetyLimits", "ScipyTable", "TableIdentification", "Trip", "VirtualTable",
-    "default_sensors", "evaluate_run", "identify_table", "ideal_sensors", "kp_study",
-    "load_run", "model_response", "run_frf", "run_mil", "run_tracking", "save_run", "simulate",
+    "ControlledRun",
+    "FrfExperiment",
+    "KpStudy",
+    "Measurements",
+    "PlantInterface",
+    "RunMetrics",
+    "RunResult",
+    "SafetyLimits",
+    "ScipyTable",
+    "TableIdentification",
+    "Trip",
+    "VirtualTable",
+    "default_sensors",
+    "evaluate_run",
+    "identify_table",
+    "ideal_sensors",
+    "kp_study",
+    "load_run",
+    "model_response",
+    "run_frf",
+    "run_mil",
+    "run_tracking",
+    "save_run",
+    "simulate",
     "simulate_interface",
 ]

@@ -87,7 +87,7 @@ class FrfExperiment:
         f = self.frf[output].frequency_hz
         keep = (f >= band_hz[0]) & (f <= band_hz[1])
         r = np.log(self.model[output][keep] / self.frf[output].response[keep])
-        return float(np.sqrt(np.mean(r.real ** 2 + np.angle(np.exp(1j * r.imag)) ** 2)))
+        return float(np.sqrt(np.mean(r.real**2 + np.angle(np.exp(1j * r.imag)) ** 2)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -100,8 +100,9 @@ class KpStudy:
     @property
     def misfit(self) -> np.ndarray:
         """``rms_log_error`` of the identified model at each K_p (NaN where the run tripped)."""
-        return np.array([np.nan if e.identification is None else e.identification.rms_log_error
-                         for e in self.experiments])
+        return np.array(
+            [np.nan if e.identification is None else e.identification.rms_log_error for e in self.experiments]
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,12 +134,23 @@ def _table(params, table, kp):
     return table if kp is None else table.with_gains(Kp=kp)
 
 
-def run_frf(params: TableParameters, *, multisine: Multisine | None = None, specimen=None,
-            table: NonlinearTable | None = None, kp: float | None = None,
-            delay: str = "first-order", identify: bool = True,
-            free=("f_oil_hz", "zeta_oil", "d"), f_range_hz=(0.25, 100.0), sensors=None,
-            seed: int = 0, substeps: int | str = "auto", limits=None, quantize: bool = True
-            ) -> FrfExperiment:
+def run_frf(
+    params: TableParameters,
+    *,
+    multisine: Multisine | None = None,
+    specimen=None,
+    table: NonlinearTable | None = None,
+    kp: float | None = None,
+    delay: str = "first-order",
+    identify: bool = True,
+    free=("f_oil_hz", "zeta_oil", "d"),
+    f_range_hz=(0.25, 100.0),
+    sensors=None,
+    seed: int = 0,
+    substeps: int | str = "auto",
+    limits=None,
+    quantize: bool = True,
+) -> FrfExperiment:
     """Frequency-response experiment of Section 4.5 on the virtual table.
 
     Parameters
@@ -174,15 +186,26 @@ def run_frf(params: TableParameters, *, multisine: Multisine | None = None, spec
     p = params if kp is None else params.replace(Kp=kp)
     ms = multisine or design_multisine(peak=0.1, sample_rate_hz=1.0 / vt.loop_time)
     if not np.isclose(ms.sample_rate_hz * vt.loop_time, 1.0):
-        raise ConfigError("multisine.sample_rate_hz", f"the loop rate {1 / vt.loop_time:g} Hz",
-                          ms.sample_rate_hz)
-    run = simulate(vt, command=ms.signal, specimen=specimen, sensors=sensors, seed=seed,
-                   substeps=substeps, limits=limits, quantize=quantize,
-                   config={"experiment": "frf"})
+        raise ConfigError(
+            "multisine.sample_rate_hz", f"the loop rate {1 / vt.loop_time:g} Hz", ms.sample_rate_hz
+        )
+    run = simulate(
+        vt,
+        command=ms.signal,
+        specimen=specimen,
+        sensors=sensors,
+        seed=seed,
+        substeps=substeps,
+        limits=limits,
+        quantize=quantize,
+        config={"experiment": "frf"},
+    )
     if run.trip is not None:
         return FrfExperiment(run, ms, {}, {}, None, p, delay)
-    est = {name: estimate_frf(run.u, run.channels[ch], ms.n_points, ms.sample_rate_hz,
-                              lines=ms.lines) for name, ch in FRF_CHANNELS.items()}
+    est = {
+        name: estimate_frf(run.u, run.channels[ch], ms.n_points, ms.sample_rate_hz, lines=ms.lines)
+        for name, ch in FRF_CHANNELS.items()
+    }
     f = est["z"].frequency_hz
     model = {name: model_response(p, name, f, delay) for name in FRF_CHANNELS}
     if specimen is not None:
@@ -190,47 +213,78 @@ def run_frf(params: TableParameters, *, multisine: Multisine | None = None, spec
         ratio = est["w"].response
         for name in FRF_CHANNELS:
             model[name] = model[name] + model_response(p, name, f, delay, input="w") * ratio
-    ident = (identify_table(est["z"], p, free=free, delay=delay, f_range_hz=f_range_hz)
-             if identify and specimen is None else None)
+    ident = (
+        identify_table(est["z"], p, free=free, delay=delay, f_range_hz=f_range_hz)
+        if identify and specimen is None
+        else None
+    )
     return FrfExperiment(run, ms, est, model, ident, p, delay)
 
 
-def kp_study(params: TableParameters, kp_values=(0.0002, 0.0006, 0.001, 0.0014), **kwargs
-             ) -> KpStudy:
+def kp_study(params: TableParameters, kp_values=(0.0002, 0.0006, 0.001, 0.0014), **kwargs) -> KpStudy:
     """:func:`run_frf` with identification at each K_p [V/psi] (Sections 4.5.3.1, 8.3.3)."""
     runs = tuple(run_frf(params, kp=kp, identify=True, **kwargs) for kp in kp_values)
     return KpStudy(tuple(kp_values), runs)
 
 
 def _runtime(params, design, vs, fc_hz, precision, leak_hz):
-    controller = discretize(design.H_uz, design.H_uw, params.loop_time, fc_hz=fc_hz,
-                            leak_hz=leak_hz)
+    controller = discretize(design.H_uz, design.H_uw, params.loop_time, fc_hz=fc_hz, leak_hz=leak_hz)
     return MILRuntime(controller, vs=vs, precision=precision)
 
 
 def _motion_info(gm) -> dict:
-    return {"name": getattr(gm, "name", ""), "source": str(getattr(gm, "source", "")),
-            "time_step_s": gm.time_step, "npts": gm.npts, "pga_g": gm.pga_g}
+    return {
+        "name": getattr(gm, "name", ""),
+        "source": str(getattr(gm, "source", "")),
+        "time_step_s": gm.time_step,
+        "npts": gm.npts,
+        "pga_g": gm.pga_g,
+    }
 
 
-def _controlled(params, motion, runtime, design, *, specimen, table, feedback, sensors, seed,
-                substeps, limits, vs, name) -> ControlledRun:
+def _controlled(
+    params, motion, runtime, design, *, specimen, table, feedback, sensors, seed, substeps, limits, vs, name
+) -> ControlledRun:
     gm = motion.resampled(params.loop_time)
     vt = _table(params, table, None)
-    run = simulate(vt, a_g=gm.accel, runtime=runtime, specimen=specimen, feedback=feedback,
-                   sensors=sensors, seed=seed, substeps=substeps, limits=limits,
-                   config={"experiment": name, "motion": _motion_info(gm),
-                           "design": {"form": design.form, "fc_hz": design.fc_hz}})
+    run = simulate(
+        vt,
+        a_g=gm.accel,
+        runtime=runtime,
+        specimen=specimen,
+        feedback=feedback,
+        sensors=sensors,
+        seed=seed,
+        substeps=substeps,
+        limits=limits,
+        config={
+            "experiment": name,
+            "motion": _motion_info(gm),
+            "design": {"form": design.form, "fc_hz": design.fc_hz},
+        },
+    )
     metrics = None
     if run.n_samples * params.loop_time >= 1.0:
         metrics = evaluate_run(run, vs=vs, ground_displacement=gm.displacement())
     return ControlledRun(run, metrics, design, gm)
 
 
-def run_tracking(params: TableParameters, motion, *, specimen=None, fc_hz: float = 80.0,
-                 feedback: str = "lc", compensate: bool = True, table=None,
-                 precision: str = "single", leak_hz: float | None = None, sensors=None,
-                 seed: int = 0, substeps: int | str = "auto", limits=None) -> ControlledRun:
+def run_tracking(
+    params: TableParameters,
+    motion,
+    *,
+    specimen=None,
+    fc_hz: float = 80.0,
+    feedback: str = "lc",
+    compensate: bool = True,
+    table=None,
+    precision: str = "single",
+    leak_hz: float | None = None,
+    sensors=None,
+    seed: int = 0,
+    substeps: int | str = "auto",
+    limits=None,
+) -> ControlledRun:
     """Acceleration tracking, ``z_vs = a_g`` (Section 8, Eq 1-6).
 
     Parameters
@@ -251,20 +305,43 @@ def run_tracking(params: TableParameters, motion, *, specimen=None, fc_hz: float
         Virtual table override, controller arithmetic, drift leak [Hz], and
         :func:`~impedance_mil.lab.loop.simulate` options.
     """
-    design = design_controller(table_model(params), form="tracking", fc_hz=fc_hz,
-                               emit_warnings=False)
+    design = design_controller(table_model(params), form="tracking", fc_hz=fc_hz, emit_warnings=False)
     runtime = _runtime(params, design, None, fc_hz, precision, leak_hz)
     if not compensate:
         runtime.m_w[...] = 0
-    return _controlled(params, motion, runtime, design, specimen=specimen, table=table,
-                       feedback=feedback, sensors=sensors, seed=seed, substeps=substeps,
-                       limits=limits, vs=None, name="tracking")
+    return _controlled(
+        params,
+        motion,
+        runtime,
+        design,
+        specimen=specimen,
+        table=table,
+        feedback=feedback,
+        sensors=sensors,
+        seed=seed,
+        substeps=substeps,
+        limits=limits,
+        vs=None,
+        name="tracking",
+    )
 
 
-def run_mil(params: TableParameters, vs, motion, *, specimen=None, fc_hz: float = 80.0,
-            feedback: str = "lc", table=None, precision: str = "single",
-            leak_hz: float | None = None, sensors=None, seed: int = 0, substeps: int | str = "auto",
-            limits=None) -> ControlledRun:
+def run_mil(
+    params: TableParameters,
+    vs,
+    motion,
+    *,
+    specimen=None,
+    fc_hz: float = 80.0,
+    feedback: str = "lc",
+    table=None,
+    precision: str = "single",
+    leak_hz: float | None = None,
+    sensors=None,
+    seed: int = 0,
+    substeps: int | str = "auto",
+    limits=None,
+) -> ControlledRun:
     """MIL run imitating the virtual system ``vs`` (Section 9; standardized controller).
 
     Parameters are those of :func:`run_tracking`, plus ``vs``, a built-in
@@ -279,9 +356,26 @@ def run_mil(params: TableParameters, vs, motion, *, specimen=None, fc_hz: float 
     ``design`` reports the conservative open-``f_h`` constraint verdicts.  Use
     :func:`~impedance_mil.design.design_controller` for the linearized verdicts.
     """
-    design = design_controller(table_model(params), virtual_model(vs, linearization="open-fh"),
-                               form="standardized", fc_hz=fc_hz, emit_warnings=False)
+    design = design_controller(
+        table_model(params),
+        virtual_model(vs, linearization="open-fh"),
+        form="standardized",
+        fc_hz=fc_hz,
+        emit_warnings=False,
+    )
     runtime = _runtime(params, design, vs, fc_hz, precision, leak_hz)
-    return _controlled(params, motion, runtime, design, specimen=specimen, table=table,
-                       feedback=feedback, sensors=sensors, seed=seed, substeps=substeps,
-                       limits=limits, vs=vs, name="mil")
+    return _controlled(
+        params,
+        motion,
+        runtime,
+        design,
+        specimen=specimen,
+        table=table,
+        feedback=feedback,
+        sensors=sensors,
+        seed=seed,
+        substeps=substeps,
+        limits=limits,
+        vs=vs,
+        name="mil",
+    )

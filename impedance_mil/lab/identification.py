@@ -31,8 +31,9 @@ def _with(p0: TableParameters, values: dict) -> TableParameters:
     return p0.replace(valve_poles_hz=tuple(poles), **changes)
 
 
-def model_response(p: TableParameters, output: str, f_hz, delay: str = "first-order",
-                   input: str = "u") -> np.ndarray:
+def model_response(
+    p: TableParameters, output: str, f_hz, delay: str = "first-order", input: str = "u"
+) -> np.ndarray:
     """Linear-model response ``output/input`` at ``f_hz`` [Hz] for a delay treatment."""
     table = LinearTable(p, delay=delay)
     if delay == "sampled":
@@ -72,14 +73,25 @@ class TableIdentification:
     def summary(self) -> dict:
         """Identified values: oil-column frequency [Hz] and damping, d, valve poles [Hz]."""
         p = self.parameters
-        return {"f_oil_hz": p.f_oil_hz, "zeta_oil": p.zeta_oil, "d": p.d,
-                "valve_poles_hz": tuple(p.valve_poles_hz), "rms_log_error": self.rms_log_error}
+        return {
+            "f_oil_hz": p.f_oil_hz,
+            "zeta_oil": p.zeta_oil,
+            "d": p.d,
+            "valve_poles_hz": tuple(p.valve_poles_hz),
+            "rms_log_error": self.rms_log_error,
+        }
 
 
-def identify_table(frf: FRF, initial: TableParameters, *, output: str = "z",
-                   free=("f_oil_hz", "zeta_oil", "d"), delay: str = "first-order",
-                   f_range_hz: tuple[float, float] = (0.25, 100.0),
-                   coherence_weighting: bool = True) -> TableIdentification:
+def identify_table(
+    frf: FRF,
+    initial: TableParameters,
+    *,
+    output: str = "z",
+    free=("f_oil_hz", "zeta_oil", "d"),
+    delay: str = "first-order",
+    f_range_hz: tuple[float, float] = (0.25, 100.0),
+    coherence_weighting: bool = True,
+) -> TableIdentification:
     """Fit the linear model's system parameters to a measured FRF of the bare table.
 
     Parameters
@@ -107,14 +119,20 @@ def identify_table(frf: FRF, initial: TableParameters, *, output: str = "z",
     unknown = [name for name in free if name not in IDENTIFIABLE]
     if unknown:
         raise ConfigError("identify.free", "names from " + ", ".join(IDENTIFIABLE), unknown)
-    start = {"f_oil_hz": initial.f_oil_hz, "zeta_oil": initial.zeta_oil, "d": initial.d,
-             "valve_pole_1_hz": initial.valve_poles_hz[0],
-             "valve_pole_2_hz": initial.valve_poles_hz[1]}
+    start = {
+        "f_oil_hz": initial.f_oil_hz,
+        "zeta_oil": initial.zeta_oil,
+        "d": initial.d,
+        "valve_pole_1_hz": initial.valve_poles_hz[0],
+        "valve_pole_2_hz": initial.valve_poles_hz[1],
+    }
 
     def model(values, f_hz):
         return model_response(_with(initial, values), output, f_hz, delay)
 
-    fit = fit_frf(frf, model, start, free=list(free), f_range_hz=f_range_hz,
-                  coherence_weighting=coherence_weighting)
-    return TableIdentification(parameters=_with(initial, fit.parameters), initial=initial,
-                               fit=fit, output=output, delay=delay)
+    fit = fit_frf(
+        frf, model, start, free=list(free), f_range_hz=f_range_hz, coherence_weighting=coherence_weighting
+    )
+    return TableIdentification(
+        parameters=_with(initial, fit.parameters), initial=initial, fit=fit, output=output, delay=delay
+    )

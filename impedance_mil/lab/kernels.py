@@ -29,15 +29,29 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from ..implement.kernels import controller_step_parts
 from ..implement.runtime import mil_step_kernel
+from ..plant.nonlinear import (
+    IX_P1,
+    IX_P2,
+    IX_S,
+    IX_SD,
+    IX_V,
+    IX_X,
+    N_TABLE_STATES,
+    PA_AREA,
+    PA_KV,
+    PA_LOOP,
+    PA_MASS,
+    PA_UVMAX,
+    table_acceleration,
+    table_derivative,
+    table_rates,
+    valve_command,
+)
 from ..specimens.sensors import force_from_equilibrium, load_cell_force_kernel, measure_kernel
-from ..plant.nonlinear import (IX_P1, IX_P2, IX_S, IX_SD, IX_V, IX_X, N_TABLE_STATES,
-                               PA_AREA, PA_KV, PA_LOOP, PA_MASS, PA_UVMAX, table_acceleration,
-                               table_derivative, table_rates, valve_command)
 
 #: Specimen kinds (how :func:`plant_advance` evaluates the specimen): a general
 #: state space in compressed-row form, or a bank of base-excited oscillators.
@@ -54,14 +68,57 @@ SENSE_FIELDS = ("z", "w", "x_meas", "dp_meas", "z_meas", "w_lc", "w_fe")
 #: Safety limits array layout.
 (L_STROKE, L_VELOCITY, L_FORCE, L_VALVE_TIME, L_DIVERGE) = range(5)
 #: Trip codes (0 = none) and their names.
-TRIP_NAMES = ("", "stroke", "velocity", "actuator_force", "valve_saturation", "nan",
-              "divergence")
+TRIP_NAMES = ("", "stroke", "velocity", "actuator_force", "valve_saturation", "nan", "divergence")
 
 #: Recorded channels, one column each of the record array.
-CHANNELS = ("t", "a_g", "z_vs", "u", "u_z", "u_w", "u_v", "current", "x", "v", "z", "dp",
-            "p1", "p2", "spool", "w", "w_lc", "w_fe", "w_used", "x_meas", "dp_meas", "z_meas")
-(C_T, C_AG, C_ZVS, C_U, C_UZ, C_UW, C_UV, C_I, C_X, C_V, C_Z, C_DP, C_P1, C_P2, C_S, C_W,
- C_WLC, C_WFE, C_WUSED, C_XM, C_DPM, C_ZM) = range(len(CHANNELS))
+CHANNELS = (
+    "t",
+    "a_g",
+    "z_vs",
+    "u",
+    "u_z",
+    "u_w",
+    "u_v",
+    "current",
+    "x",
+    "v",
+    "z",
+    "dp",
+    "p1",
+    "p2",
+    "spool",
+    "w",
+    "w_lc",
+    "w_fe",
+    "w_used",
+    "x_meas",
+    "dp_meas",
+    "z_meas",
+)
+(
+    C_T,
+    C_AG,
+    C_ZVS,
+    C_U,
+    C_UZ,
+    C_UW,
+    C_UV,
+    C_I,
+    C_X,
+    C_V,
+    C_Z,
+    C_DP,
+    C_P1,
+    C_P2,
+    C_S,
+    C_W,
+    C_WLC,
+    C_WFE,
+    C_WUSED,
+    C_XM,
+    C_DPM,
+    C_ZM,
+) = range(len(CHANNELS))
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -173,16 +230,34 @@ def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work):
             tq, tqd = q + 0.5 * h * dq, qd + 0.5 * h * dqd
             tmp[i], tmp[n + i] = tq, tqd
             ws += Cs[i] * tq + Cs[n + i] * tqd
-        x2, v2, p12, p22, s2, sd2 = (x + 0.5 * h * v, v + 0.5 * h * z1, p1 + 0.5 * h * e1,
-                                     p2 + 0.5 * h * f1, s + 0.5 * h * sd, sd + 0.5 * h * g1)
+        x2, v2, p12, p22, s2, sd2 = (
+            x + 0.5 * h * v,
+            v + 0.5 * h * z1,
+            p1 + 0.5 * h * e1,
+            p2 + 0.5 * h * f1,
+            s + 0.5 * h * sd,
+            sd + 0.5 * h * g1,
+        )
         z2, e2, f2, g2 = table_rates(pa, x2, v2, p12, p22, s2, sd2, current, ws, Ds)
         ws = bank_inner_stage(ys, tmp, acc, Cs, osc_k, osc_c, z2, 0.5 * h)
-        x3, v3, p13, p23, s3, sd3 = (x + 0.5 * h * v2, v + 0.5 * h * z2, p1 + 0.5 * h * e2,
-                                     p2 + 0.5 * h * f2, s + 0.5 * h * sd2, sd + 0.5 * h * g2)
+        x3, v3, p13, p23, s3, sd3 = (
+            x + 0.5 * h * v2,
+            v + 0.5 * h * z2,
+            p1 + 0.5 * h * e2,
+            p2 + 0.5 * h * f2,
+            s + 0.5 * h * sd2,
+            sd + 0.5 * h * g2,
+        )
         z3, e3, f3, g3 = table_rates(pa, x3, v3, p13, p23, s3, sd3, current, ws, Ds)
         ws = bank_inner_stage(ys, tmp, acc, Cs, osc_k, osc_c, z3, h)
-        x4, v4, p14, p24, s4, sd4 = (x + h * v3, v + h * z3, p1 + h * e3, p2 + h * f3,
-                                     s + h * sd3, sd + h * g3)
+        x4, v4, p14, p24, s4, sd4 = (
+            x + h * v3,
+            v + h * z3,
+            p1 + h * e3,
+            p2 + h * f3,
+            s + h * sd3,
+            sd + h * g3,
+        )
         z4, e4, f4, g4 = table_rates(pa, x4, v4, p14, p24, s4, sd4, current, ws, Ds)
         for i in range(n):
             q, qd = tmp[i], tmp[n + i]
@@ -214,29 +289,49 @@ def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work):
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     x, v, p1, p2, s, sd = y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD]
     for _ in range(nsub):
-        z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current,
-                                     specimen_force_state(Cs, ys), Ds)
+        z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current, specimen_force_state(Cs, ys), Ds)
         specimen_rates(Av, Ac, Ap, Bs, ys, z1, k1)
         for i in range(m):
             tmp[i] = ys[i] + 0.5 * h * k1[i]
-        x2, v2, p12, p22, s2, sd2 = (x + 0.5 * h * v, v + 0.5 * h * z1, p1 + 0.5 * h * e1,
-                                     p2 + 0.5 * h * f1, s + 0.5 * h * sd, sd + 0.5 * h * g1)
-        z2, e2, f2, g2 = table_rates(pa, x2, v2, p12, p22, s2, sd2, current,
-                                     specimen_force_state(Cs, tmp), Ds)
+        x2, v2, p12, p22, s2, sd2 = (
+            x + 0.5 * h * v,
+            v + 0.5 * h * z1,
+            p1 + 0.5 * h * e1,
+            p2 + 0.5 * h * f1,
+            s + 0.5 * h * sd,
+            sd + 0.5 * h * g1,
+        )
+        z2, e2, f2, g2 = table_rates(
+            pa, x2, v2, p12, p22, s2, sd2, current, specimen_force_state(Cs, tmp), Ds
+        )
         specimen_rates(Av, Ac, Ap, Bs, tmp, z2, k2)
         for i in range(m):
             tmp[i] = ys[i] + 0.5 * h * k2[i]
-        x3, v3, p13, p23, s3, sd3 = (x + 0.5 * h * v2, v + 0.5 * h * z2, p1 + 0.5 * h * e2,
-                                     p2 + 0.5 * h * f2, s + 0.5 * h * sd2, sd + 0.5 * h * g2)
-        z3, e3, f3, g3 = table_rates(pa, x3, v3, p13, p23, s3, sd3, current,
-                                     specimen_force_state(Cs, tmp), Ds)
+        x3, v3, p13, p23, s3, sd3 = (
+            x + 0.5 * h * v2,
+            v + 0.5 * h * z2,
+            p1 + 0.5 * h * e2,
+            p2 + 0.5 * h * f2,
+            s + 0.5 * h * sd2,
+            sd + 0.5 * h * g2,
+        )
+        z3, e3, f3, g3 = table_rates(
+            pa, x3, v3, p13, p23, s3, sd3, current, specimen_force_state(Cs, tmp), Ds
+        )
         specimen_rates(Av, Ac, Ap, Bs, tmp, z3, k3)
         for i in range(m):
             tmp[i] = ys[i] + h * k3[i]
-        x4, v4, p14, p24, s4, sd4 = (x + h * v3, v + h * z3, p1 + h * e3, p2 + h * f3,
-                                     s + h * sd3, sd + h * g3)
-        z4, e4, f4, g4 = table_rates(pa, x4, v4, p14, p24, s4, sd4, current,
-                                     specimen_force_state(Cs, tmp), Ds)
+        x4, v4, p14, p24, s4, sd4 = (
+            x + h * v3,
+            v + h * z3,
+            p1 + h * e3,
+            p2 + h * f3,
+            s + h * sd3,
+            sd + h * g3,
+        )
+        z4, e4, f4, g4 = table_rates(
+            pa, x4, v4, p14, p24, s4, sd4, current, specimen_force_state(Cs, tmp), Ds
+        )
         specimen_rates(Av, Ac, Ap, Bs, tmp, z4, k4)
         for i in range(m):
             ys[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
@@ -250,8 +345,26 @@ def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def plant_sense(pa, y, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, v_low, v_high,
-                lc_weights, chan_idx, q, noise_row, readings, out):
+def plant_sense(
+    pa,
+    y,
+    Cs,
+    Ds,
+    qi,
+    gain,
+    scale,
+    offset,
+    noise_rms,
+    lsb,
+    v_low,
+    v_high,
+    lc_weights,
+    chan_idx,
+    q,
+    noise_row,
+    readings,
+    out,
+):
     """Sensor readings at the current state into ``out`` (layout ``SENSE_FIELDS``).
 
     ``qi ... q`` are the arrays of :func:`impedance_mil.lab.setup.sensor_arrays`
@@ -323,9 +436,43 @@ def hydraulic_step(pa, u, x_prev, dp_prev, sat_ticks):
 # loop allocates nothing (its scratch arrays are arguments, made by the
 # caller, who also keeps every array alive for the call), so it needs no NRT.
 @njit(cache=True, error_model="numpy", _nrt=False)
-def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc_k, osc_c, sens,
-             noise, lim, a_g, command, m_z, m_w, s_z, s_w, tmp, compensated, kind_code, vs_params,
-             x_vs, vs_work, rec, vs_rec, work, scratch, out2, status):
+def run_loop(
+    mode,
+    feedback,
+    pa,
+    nsub,
+    y,
+    Av,
+    Ac,
+    Ap,
+    Bs,
+    Cs,
+    Ds,
+    spec_kind,
+    osc_k,
+    osc_c,
+    sens,
+    noise,
+    lim,
+    a_g,
+    command,
+    m_z,
+    m_w,
+    s_z,
+    s_w,
+    tmp,
+    compensated,
+    kind_code,
+    vs_params,
+    x_vs,
+    vs_work,
+    rec,
+    vs_rec,
+    work,
+    scratch,
+    out2,
+    status,
+):
     """The compiled sampled-data loop (module docstring); one code path for every setup.
 
     Parameters
@@ -383,8 +530,26 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc
     status[1] = 0.0
     status[2] = 0.0
     for k in range(n):
-        plant_sense(pa, y, Cs, Ds, qi, gain, scale, offset, noise_rms, lsb, v_low, v_high,
-                    lc_w, chan_idx, qbuf, noise[k], readings, meas)
+        plant_sense(
+            pa,
+            y,
+            Cs,
+            Ds,
+            qi,
+            gain,
+            scale,
+            offset,
+            noise_rms,
+            lsb,
+            v_low,
+            v_high,
+            lc_w,
+            chan_idx,
+            qbuf,
+            noise[k],
+            readings,
+            meas,
+        )
         w_used = meas[M_WLC] if feedback == FEEDBACK_LC else meas[M_WFE]
         code, value = check_limits(pa, lim, y, meas, uv_last, sat)
         if code != 0:
@@ -402,8 +567,22 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc
             u, u_w = controller_step_parts(m_z, m_w, s_z, s_w, tmp, a_g[k], w_used, compensated)
             z_vs = a_g[k]
         else:
-            mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, vs_params, x_vs,
-                            vs_work, dt, a_g[k], w_used, out2)
+            mil_step_kernel(
+                m_z,
+                m_w,
+                s_z,
+                s_w,
+                tmp,
+                compensated,
+                kind_code,
+                vs_params,
+                x_vs,
+                vs_work,
+                dt,
+                a_g[k],
+                w_used,
+                out2,
+            )
             u = out2[0]
             z_vs = out2[1]
             u_w = out2[2]
@@ -433,5 +612,4 @@ def run_loop(mode, feedback, pa, nsub, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc
         rec[C_XM, k] = meas[M_X]
         rec[C_DPM, k] = meas[M_DP]
         rec[C_ZM, k] = meas[M_ZM]
-        plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc_k, osc_c, current, dt, nsub,
-                      work)
+        plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, spec_kind, osc_k, osc_c, current, dt, nsub, work)

@@ -22,8 +22,7 @@ import numpy as np
 
 from ..errors import ConfigError, LimitTripped
 from ..plant.nonlinear import N_TABLE_STATES
-from .kernels import (CHANNELS, FEEDBACK_FE, FEEDBACK_LC, MODE_MIL, MODE_OPEN, MODE_TRACK,
-                      TRIP_NAMES, run_loop)
+from .kernels import CHANNELS, FEEDBACK_FE, FEEDBACK_LC, MODE_MIL, MODE_OPEN, MODE_TRACK, TRIP_NAMES, run_loop
 from .plant_interface import PlantInterface, VirtualTable, specimen_arrays
 from .results import RunResult, Trip
 from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
@@ -51,8 +50,7 @@ def _mode_and_inputs(command, a_g, runtime, loop_time) -> tuple[int, np.ndarray,
     if a_g is None:
         raise ConfigError("a_g", "a ground acceleration history [in/s^2] for a controlled run")
     if not np.isclose(runtime.loop_time_s, loop_time, rtol=1e-9, atol=0.0):
-        raise ConfigError("loop_time", f"the controller's loop time {runtime.loop_time_s:g} s",
-                          loop_time)
+        raise ConfigError("loop_time", f"the controller's loop time {runtime.loop_time_s:g} s", loop_time)
     ag = _history("a_g", a_g, "in/s^2")
     mode = MODE_MIL if getattr(runtime, "vs", None) is not None else MODE_TRACK
     return mode, ag, np.zeros(ag.size)
@@ -66,10 +64,18 @@ def _vs_names(runtime) -> tuple:
     return tuple(names) if names else tuple(f"s{i}" for i in range(vs.n_states))
 
 
-def _config(table, specimen, runtime, sensors, limits, substeps: dict, seed, feedback, quantize,
-            extra) -> dict:
-    cfg = {"table": asdict(table), "sensors": sensors.to_dict(), "limits": limits.to_dict(),
-           **substeps, "seed": seed, "feedback": feedback, "quantize": quantize}
+def _config(
+    table, specimen, runtime, sensors, limits, substeps: dict, seed, feedback, quantize, extra
+) -> dict:
+    cfg = {
+        "table": asdict(table),
+        "sensors": sensors.to_dict(),
+        "limits": limits.to_dict(),
+        **substeps,
+        "seed": seed,
+        "feedback": feedback,
+        "quantize": quantize,
+    }
     for key, obj in (("specimen", specimen), ("vs", getattr(runtime, "vs", None))):
         if obj is not None:
             cfg[key] = obj.to_dict() if hasattr(obj, "to_dict") else repr(obj)
@@ -87,14 +93,35 @@ def _controller_arrays(runtime):
         s = np.zeros((2, 0))
         return (z, z, s, s.copy(), np.zeros(1), False, 0, np.zeros(0), np.zeros(0), np.zeros(1))
     runtime.reset()
-    return (runtime.m_z, runtime.m_w, runtime.s_z, runtime.s_w, runtime.tmp,
-            runtime.compensated, runtime.kind_code, runtime.vs_params, runtime.x_vs, runtime.work)
+    return (
+        runtime.m_z,
+        runtime.m_w,
+        runtime.s_z,
+        runtime.s_w,
+        runtime.tmp,
+        runtime.compensated,
+        runtime.kind_code,
+        runtime.vs_params,
+        runtime.x_vs,
+        runtime.work,
+    )
 
 
-def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feedback: str = "lc",
-             sensors=None, limits: SafetyLimits | None = None,
-             substeps: int | str = "auto", seed: int = 0, quantize: bool = True,
-             config: dict | None = None) -> RunResult:
+def simulate(
+    table,
+    *,
+    command=None,
+    a_g=None,
+    runtime=None,
+    specimen=None,
+    feedback: str = "lc",
+    sensors=None,
+    limits: SafetyLimits | None = None,
+    substeps: int | str = "auto",
+    seed: int = 0,
+    quantize: bool = True,
+    config: dict | None = None,
+) -> RunResult:
     """Run the compiled sampled-data loop.
 
     Parameters
@@ -144,15 +171,32 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     if mode == MODE_MIL and getattr(runtime, "python_vs", False):
         # A user-defined VS has no kernel: the same ticks through the plant interface
         # (VirtualTable calls the compiled plant kernels; trajectories are the same).
-        plant = VirtualTable(table, specimen=specimen, sensors=sensors, limits=limits,
-                             substeps=nsub, seed=seed, feedback=feedback, quantize=quantize)
+        plant = VirtualTable(
+            table,
+            specimen=specimen,
+            sensors=sensors,
+            limits=limits,
+            substeps=nsub,
+            seed=seed,
+            feedback=feedback,
+            quantize=quantize,
+        )
         result = simulate_interface(plant, a_g=ag, runtime=runtime, feedback=feedback)
-        cfg = _config(table, specimen, runtime, sensors, limits, sub_cfg, seed, feedback,
-                      quantize, {**(config or {}), "path": "python-vs"})
+        cfg = _config(
+            table,
+            specimen,
+            runtime,
+            sensors,
+            limits,
+            sub_cfg,
+            seed,
+            feedback,
+            quantize,
+            {**(config or {}), "path": "python-vs"},
+        )
         return replace(result, config=cfg)
     # Writable copies (see _history): one compiled loop per controller precision.
-    spec = tuple(np.array(a) if isinstance(a, np.ndarray) else a
-                 for a in specimen_arrays(specimen))
+    spec = tuple(np.array(a) if isinstance(a, np.ndarray) else a for a in specimen_arrays(specimen))
     n_y = N_TABLE_STATES + spec[3].size
     y = np.zeros(n_y)
     y[:N_TABLE_STATES] = table.equilibrium_state()
@@ -164,24 +208,44 @@ def simulate(table, *, command=None, a_g=None, runtime=None, specimen=None, feed
     status = np.zeros(3)
     # The compiled loop allocates nothing (it runs without reference counting): every
     # scratch array is made here and outlives the call.
-    run_loop(mode, _FEEDBACK[feedback], table.parameter_array(), nsub, y, *spec,
-             sens, noise, limits.array(table), ag, cmd, *ctrl, rec, vs_rec,
-             np.zeros((5, n_y)), np.zeros(7 + noise.shape[1]), np.zeros(3, dtype=ctrl[4].dtype),
-             status)
+    run_loop(
+        mode,
+        _FEEDBACK[feedback],
+        table.parameter_array(),
+        nsub,
+        y,
+        *spec,
+        sens,
+        noise,
+        limits.array(table),
+        ag,
+        cmd,
+        *ctrl,
+        rec,
+        vs_rec,
+        np.zeros((5, n_y)),
+        np.zeros(7 + noise.shape[1]),
+        np.zeros(3, dtype=ctrl[4].dtype),
+        status,
+    )
     done = int(status[0])
     trip = None
     if status[1]:
         trip = Trip(TRIP_NAMES[int(status[1])], done * table.loop_time, float(status[2]))
     return RunResult(
         channels={name: rec[i, :done] for i, name in enumerate(CHANNELS)},
-        vs_states=vs_rec[:done].astype(float), vs_state_names=_vs_names(runtime),
-        mode=_MODES[mode], loop_time=table.loop_time, trip=trip,
-        config=_config(table, specimen, runtime, sensors, limits, sub_cfg, seed, feedback,
-                       quantize, config))
+        vs_states=vs_rec[:done].astype(float),
+        vs_state_names=_vs_names(runtime),
+        mode=_MODES[mode],
+        loop_time=table.loop_time,
+        trip=trip,
+        config=_config(table, specimen, runtime, sensors, limits, sub_cfg, seed, feedback, quantize, config),
+    )
 
 
-def simulate_interface(plant: PlantInterface, *, command=None, a_g=None, runtime=None,
-                       feedback: str = "lc") -> RunResult:
+def simulate_interface(
+    plant: PlantInterface, *, command=None, a_g=None, runtime=None, feedback: str = "lc"
+) -> RunResult:
     """Run the loop in Python against a :class:`PlantInterface` (same tick order as :func:`simulate`).
 
     The VS and controller are stepped through ``runtime.mil_step`` /
@@ -217,16 +281,32 @@ def simulate_interface(plant: PlantInterface, *, command=None, a_g=None, runtime
         truth = plant.truth() if hasattr(plant, "truth") else {}
         row = dict.fromkeys(CHANNELS, np.nan)
         row.update(truth)
-        row.update(t=m.time_s, a_g=ag[k], z_vs=z_vs, u=u, u_z=u - u_w, u_w=u_w, w_lc=m.w_lc,
-                   w_fe=m.w_fe, w_used=w_used, x_meas=m.x, dp_meas=m.dp, z_meas=m.z)
+        row.update(
+            t=m.time_s,
+            a_g=ag[k],
+            z_vs=z_vs,
+            u=u,
+            u_z=u - u_w,
+            u_w=u_w,
+            w_lc=m.w_lc,
+            w_fe=m.w_fe,
+            w_used=w_used,
+            x_meas=m.x,
+            dp_meas=m.dp,
+            z_meas=m.z,
+        )
         rows.append([row[c] for c in CHANNELS])
         plant.advance()
     rec = np.array(rows, dtype=float).reshape(-1, len(CHANNELS))
     return RunResult(
         channels={name: rec[:, i].copy() for i, name in enumerate(CHANNELS)},
         vs_states=np.array(vs_rows, dtype=float).reshape(len(rows), -1),
-        vs_state_names=_vs_names(runtime), mode=_MODES[mode], loop_time=plant.loop_time,
-        trip=trip, config={"plant": type(plant).__name__, "feedback": feedback})
+        vs_state_names=_vs_names(runtime),
+        mode=_MODES[mode],
+        loop_time=plant.loop_time,
+        trip=trip,
+        config={"plant": type(plant).__name__, "feedback": feedback},
+    )
 
 
 __all__ = ["simulate", "simulate_interface", "VirtualTable"]

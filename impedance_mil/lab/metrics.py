@@ -89,9 +89,14 @@ class SpectralErrorCurve:
         return float(self.frequency_hz[np.argmax(np.abs(self.relative_error))])
 
 
-def spectral_error_curve(z, z_target, time_step: float, band_hz: tuple[float, float],
-                         damping: float = 0.05, n_points: int = POINTS_PER_BAND
-                         ) -> SpectralErrorCurve:
+def spectral_error_curve(
+    z,
+    z_target,
+    time_step: float,
+    band_hz: tuple[float, float],
+    damping: float = 0.05,
+    n_points: int = POINTS_PER_BAND,
+) -> SpectralErrorCurve:
     """Relative PSA error of ``z`` against ``z_target`` at each oscillator of a band [Hz].
 
     Parameters
@@ -116,8 +121,14 @@ def spectral_error_curve(z, z_target, time_step: float, band_hz: tuple[float, fl
     return SpectralErrorCurve(f, got / ref - 1.0)
 
 
-def spectral_error(z, z_target, time_step: float, band_hz: tuple[float, float],
-                   damping: float = 0.05, n_points: int = POINTS_PER_BAND) -> float:
+def spectral_error(
+    z,
+    z_target,
+    time_step: float,
+    band_hz: tuple[float, float],
+    damping: float = 0.05,
+    n_points: int = POINTS_PER_BAND,
+) -> float:
     """Mean absolute relative PSA error over a band [Hz] (5 % damping by default).
 
     Parameters as :func:`spectral_error_curve`, whose ``mean_abs`` this is.
@@ -129,12 +140,11 @@ def history_errors(z, z_target) -> tuple[float, float]:
     """``(normalized RMS error, signed relative peak error)`` of an acceleration history."""
     z = np.asarray(z, dtype=float)
     zt = np.asarray(z_target, dtype=float)
-    rms_t = np.sqrt(np.mean(zt ** 2))
+    rms_t = np.sqrt(np.mean(zt**2))
     if rms_t == 0:
         raise ConfigError("z_target", "a nonzero target history")
     peak_t = np.max(np.abs(zt))
-    return (float(np.sqrt(np.mean((z - zt) ** 2)) / rms_t),
-            float((np.max(np.abs(z)) - peak_t) / peak_t))
+    return (float(np.sqrt(np.mean((z - zt) ** 2)) / rms_t), float((np.max(np.abs(z)) - peak_t) / peak_t))
 
 
 def dissipated_energy(force, displacement) -> float:

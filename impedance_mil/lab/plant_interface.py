@@ -18,8 +18,22 @@ import numpy as np
 
 from ..errors import LimitTripped
 from ..plant.nonlinear import IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES
-from .kernels import (M_DP, M_W, M_WFE, M_WLC, M_X, M_Z, M_ZM, SPEC_BANK, SPEC_CSR, TRIP_NAMES,
-                      check_limits, hydraulic_step, plant_advance, plant_sense)
+from .kernels import (
+    M_DP,
+    M_W,
+    M_WFE,
+    M_WLC,
+    M_X,
+    M_Z,
+    M_ZM,
+    SPEC_BANK,
+    SPEC_CSR,
+    TRIP_NAMES,
+    check_limits,
+    hydraulic_step,
+    plant_advance,
+    plant_sense,
+)
 from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
 from .substeps import resolve_substeps, specimen_state_space
 
@@ -95,10 +109,18 @@ def specimen_arrays(specimen, oscillator_bank: bool = True) -> tuple:
     rows, cols = np.nonzero(A)
     ptr = np.searchsorted(rows, np.arange(A.shape[0] + 1)).astype(np.int64)
     bank = oscillator_bank_of(A, B) if oscillator_bank else None
-    kind, osc_k, osc_c = (SPEC_CSR, np.zeros(0), np.zeros(0)) if bank is None else (SPEC_BANK,
-                                                                                  *bank)
-    return (np.ascontiguousarray(A[rows, cols]), cols.astype(np.int64), ptr,
-            np.ascontiguousarray(B), np.ascontiguousarray(C), D, kind, osc_k, osc_c)
+    kind, osc_k, osc_c = (SPEC_CSR, np.zeros(0), np.zeros(0)) if bank is None else (SPEC_BANK, *bank)
+    return (
+        np.ascontiguousarray(A[rows, cols]),
+        cols.astype(np.int64),
+        ptr,
+        np.ascontiguousarray(B),
+        np.ascontiguousarray(C),
+        D,
+        kind,
+        osc_k,
+        osc_c,
+    )
 
 
 def oscillator_bank_of(A, B):
@@ -146,9 +168,17 @@ class VirtualTable:
         ``n_channels`` normals per loop, as in the compiled loop).
     """
 
-    def __init__(self, table, specimen=None, sensors=None, limits: SafetyLimits | None = None,
-                 substeps: int | str = "auto", seed: int = 0, feedback: str = "lc",
-                 quantize: bool = True):
+    def __init__(
+        self,
+        table,
+        specimen=None,
+        sensors=None,
+        limits: SafetyLimits | None = None,
+        substeps: int | str = "auto",
+        seed: int = 0,
+        feedback: str = "lc",
+        quantize: bool = True,
+    ):
         self.table = table
         self.loop_time = table.loop_time
         self._pa = table.parameter_array()
@@ -181,16 +211,14 @@ class VirtualTable:
 
     def _sense(self) -> None:
         noise = draw_noise(self._rng, self.sensors)
-        plant_sense(self._pa, self.y, self._C, self._D, *self._sens, noise,
-                    self._readings, self._meas)
+        plant_sense(self._pa, self.y, self._C, self._D, *self._sens, noise, self._readings, self._meas)
 
     @property
     def time_s(self) -> float:
         return self._tick * self.loop_time
 
     def read_sensors(self) -> Measurements:
-        code, value = check_limits(self._pa, self._lim, self.y, self._meas,
-                                   self.valve_command, self._sat)
+        code, value = check_limits(self._pa, self._lim, self.y, self._meas, self.valve_command, self._sat)
         if code:
             self.trip_value = float(value)
             raise LimitTripped(TRIP_NAMES[code], self.time_s, f"value {value:.6g}")
@@ -199,18 +227,27 @@ class VirtualTable:
 
     def write_command(self, u: float) -> None:
         self.valve_command, self._sat, self.current = hydraulic_step(
-            self._pa, float(u), self._x_prev, self._dp_prev, self._sat)
+            self._pa, float(u), self._x_prev, self._dp_prev, self._sat
+        )
         self._x_prev, self._dp_prev = self._meas[M_X], self._meas[M_DP]
 
     def advance(self) -> None:
-        plant_advance(self._pa, self.y, *self._spec, self.current,
-                      self.loop_time, self.substeps, self._work)
+        plant_advance(self._pa, self.y, *self._spec, self.current, self.loop_time, self.substeps, self._work)
         self._tick += 1
         self._sense()
 
     def truth(self) -> dict:
         """True (unmeasured) plant quantities of the current loop."""
         y = self.y
-        return {"x": y[IX_X], "v": y[IX_V], "z": self._meas[M_Z], "dp": y[IX_P1] - y[IX_P2],
-                "p1": y[IX_P1], "p2": y[IX_P2], "spool": y[IX_S], "w": self._meas[M_W],
-                "u_v": self.valve_command, "current": self.current}
+        return {
+            "x": y[IX_X],
+            "v": y[IX_V],
+            "z": self._meas[M_Z],
+            "dp": y[IX_P1] - y[IX_P2],
+            "p1": y[IX_P1],
+            "p2": y[IX_P2],
+            "spool": y[IX_S],
+            "w": self._meas[M_W],
+            "u_v": self.valve_command,
+            "current": self.current,
+        }

@@ -26,13 +26,30 @@ class ScipyTable(VirtualTable):
     in its own unit).
     """
 
-    def __init__(self, table, specimen=None, sensors=None, limits=None, seed: int = 0,
-                 feedback: str = "lc", quantize: bool = True, rtol: float = 1e-8,
-                 atol: float = 1e-9):
+    def __init__(
+        self,
+        table,
+        specimen=None,
+        sensors=None,
+        limits=None,
+        seed: int = 0,
+        feedback: str = "lc",
+        quantize: bool = True,
+        rtol: float = 1e-8,
+        atol: float = 1e-9,
+    ):
         self.rtol = rtol
         self.atol = atol
-        super().__init__(table, specimen=specimen, sensors=sensors, limits=limits, substeps=1,
-                         seed=seed, feedback=feedback, quantize=quantize)
+        super().__init__(
+            table,
+            specimen=specimen,
+            sensors=sensors,
+            limits=limits,
+            substeps=1,
+            seed=seed,
+            feedback=feedback,
+            quantize=quantize,
+        )
 
     def _rhs(self, t, y):
         out = np.empty_like(y)
@@ -41,8 +58,9 @@ class ScipyTable(VirtualTable):
 
     def advance(self) -> None:
         t0 = self.time_s
-        sol = scipy.integrate.solve_ivp(self._rhs, (t0, t0 + self.loop_time), self.y,
-                                        method="RK45", rtol=self.rtol, atol=self.atol)
+        sol = scipy.integrate.solve_ivp(
+            self._rhs, (t0, t0 + self.loop_time), self.y, method="RK45", rtol=self.rtol, atol=self.atol
+        )
         self.y[:] = sol.y[:, -1]
         self._tick += 1
         self._sense()

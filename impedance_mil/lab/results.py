@@ -11,9 +11,10 @@ renamed into place; :func:`load_run` reads it back.
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 import h5py
 import numpy as np
@@ -107,15 +108,19 @@ class RunResult:
     def n_samples(self) -> int:
         return int(self.channels["t"].size)
 
-    def raise_if_tripped(self) -> "RunResult":
+    def raise_if_tripped(self) -> RunResult:
         """Raise :class:`LimitTripped` if a limit stopped the run; else return self."""
         if self.trip is not None:
             raise self.trip.as_exception()
         return self
 
 
-def save_run(result: RunResult, path: str | Path, extra_attrs: Mapping[str, Any] | None = None,
-             extra_groups: Mapping[str, Mapping[str, Any]] | None = None) -> Path:
+def save_run(
+    result: RunResult,
+    path: str | Path,
+    extra_attrs: Mapping[str, Any] | None = None,
+    extra_groups: Mapping[str, Mapping[str, Any]] | None = None,
+) -> Path:
     """Write ``result`` to an HDF5 file atomically (temporary name, then rename); return the path.
 
     Parameters
@@ -150,8 +155,11 @@ def save_run(result: RunResult, path: str | Path, extra_attrs: Mapping[str, Any]
         f.attrs["mode"] = result.mode
         f.attrs["loop_time_s"] = result.loop_time
         f.attrs["config_json"] = json.dumps(json_safe(result.config), default=repr)
-        f.attrs["trip_json"] = json.dumps(None if result.trip is None else {
-            "limit": result.trip.limit, "time_s": result.trip.time_s, "value": result.trip.value})
+        f.attrs["trip_json"] = json.dumps(
+            None
+            if result.trip is None
+            else {"limit": result.trip.limit, "time_s": result.trip.time_s, "value": result.trip.value}
+        )
         grp = f.create_group("channels")
         for name, arr in result.channels.items():
             grp.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
@@ -179,16 +187,18 @@ def load_run(path: str | Path) -> RunResult:
         with h5py.File(path, "r") as f:
             if f.attrs.get("format") != FILE_FORMAT:
                 raise DataFileError(path, f"not an impedance-mil run file (format {FILE_FORMAT!r})")
-            channels = {name: np.asarray(f["channels"][name]) for name in CHANNELS
-                        if name in f["channels"]}
+            channels = {name: np.asarray(f["channels"][name]) for name in CHANNELS if name in f["channels"]}
             trip = json.loads(f.attrs["trip_json"])
             return RunResult(
-                channels=channels, vs_states=np.asarray(f["vs_states"]),
+                channels=channels,
+                vs_states=np.asarray(f["vs_states"]),
                 vs_state_names=tuple(json.loads(f["vs_states"].attrs["names"])),
-                mode=str(f.attrs["mode"]), loop_time=float(f.attrs["loop_time_s"]),
+                mode=str(f.attrs["mode"]),
+                loop_time=float(f.attrs["loop_time_s"]),
                 trip=None if trip is None else Trip(trip["limit"], trip["time_s"], trip["value"]),
                 config=json.loads(f.attrs["config_json"]),
-                software_version=str(f.attrs["software_version"]))
+                software_version=str(f.attrs["software_version"]),
+            )
     except OSError as exc:
         raise DataFileError(path, f"cannot read HDF5 run file ({exc})") from exc
     except KeyError as exc:

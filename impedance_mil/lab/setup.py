@@ -72,14 +72,22 @@ def sensor_arrays(suite: SensorSuite, feedback: str = "lc", quantize: bool = Tru
             raise ConfigError("sensors", f"a channel measuring {name}", suite.names)
         idx.append(int(hits[0]))
     if feedback == "lc" and not np.any(suite.load_cell_weights != 0):
-        raise ConfigError("sensors", "reaction load cells (interface_force channels) for "
-                          "feedback 'lc'", suite.names)
-    return (np.ascontiguousarray(qi, dtype=np.int64), np.array(suite.gain),
-            np.array(suite.scale), np.array(suite.offset), np.array(suite.noise_rms),
-            np.array(suite.lsb) if quantize else np.full(suite.n_channels, UNQUANTIZED_LSB_V),
-            np.array(suite.v_low), np.array(suite.v_high),
-            np.array(suite.load_cell_weights), np.array(idx, dtype=np.int64),
-            np.zeros(len(QUANTITIES)))
+        raise ConfigError(
+            "sensors", "reaction load cells (interface_force channels) for feedback 'lc'", suite.names
+        )
+    return (
+        np.ascontiguousarray(qi, dtype=np.int64),
+        np.array(suite.gain),
+        np.array(suite.scale),
+        np.array(suite.offset),
+        np.array(suite.noise_rms),
+        np.array(suite.lsb) if quantize else np.full(suite.n_channels, UNQUANTIZED_LSB_V),
+        np.array(suite.v_low),
+        np.array(suite.v_high),
+        np.array(suite.load_cell_weights),
+        np.array(idx, dtype=np.int64),
+        np.zeros(len(QUANTITIES)),
+    )
 
 
 @dataclass(frozen=True)
@@ -113,22 +121,19 @@ class SafetyLimits:
             if not (np.isfinite(value) and value > 0):
                 raise ConfigError(f"limits.{key}", "a positive finite number", value)
         if self.actuator_force is not None and not self.actuator_force > 0:
-            raise ConfigError("limits.actuator_force", "a positive force [lbf]",
-                              self.actuator_force)
+            raise ConfigError("limits.actuator_force", "a positive force [lbf]", self.actuator_force)
 
     @classmethod
-    def disabled(cls) -> "SafetyLimits":
+    def disabled(cls) -> SafetyLimits:
         """Only NaN and divergence checks remain (for studies beyond the rig's limits)."""
-        return cls(stroke=1e9, velocity=1e9, actuator_force=1e12, valve_saturation_time=1e9,
-                   divergence=1e3)
+        return cls(stroke=1e9, velocity=1e9, actuator_force=1e12, valve_saturation_time=1e9, divergence=1e3)
 
     def array(self, table) -> np.ndarray:
         """Limits in the kernel layout for ``table`` (a NonlinearTable)."""
         out = np.zeros(5)
         out[L_STROKE] = self.stroke
         out[L_VELOCITY] = self.velocity
-        out[L_FORCE] = (0.95 * table.max_force if self.actuator_force is None
-                        else self.actuator_force)
+        out[L_FORCE] = 0.95 * table.max_force if self.actuator_force is None else self.actuator_force
         out[L_VALVE_TIME] = self.valve_saturation_time
         out[L_DIVERGE] = self.divergence
         return out

@@ -39,7 +39,7 @@ RK4_STEP_TOLERANCE = 1e-3
 
 def rk4_factor(q):
     """RK4's one-step amplification ``R(q) = 1 + q + q^2/2 + q^3/6 + q^4/24`` (q = lambda h)."""
-    return 1.0 + q + q * q / 2.0 + q ** 3 / 6.0 + q ** 4 / 24.0
+    return 1.0 + q + q * q / 2.0 + q**3 / 6.0 + q**4 / 24.0
 
 
 def rk4_oscillation_error(theta: float) -> float:
@@ -52,8 +52,11 @@ def rk4_oscillation_error(theta: float) -> float:
 
 
 #: Largest ``|lambda| h`` [rad] whose RK4 step error is :data:`RK4_STEP_TOLERANCE` (0.655).
-RK4_STEP_BOUND = float(scipy.optimize.brentq(
-    lambda theta: rk4_oscillation_error(theta) - RK4_STEP_TOLERANCE, 0.05, 2.0, xtol=1e-12))
+RK4_STEP_BOUND = float(
+    scipy.optimize.brentq(
+        lambda theta: rk4_oscillation_error(theta) - RK4_STEP_TOLERANCE, 0.05, 2.0, xtol=1e-12
+    )
+)
 
 
 @dataclass(frozen=True)
@@ -79,9 +82,14 @@ class SubstepChoice:
 
     def to_dict(self) -> dict:
         """Plain entries for a run's configuration."""
-        return {"substeps": self.substeps, "fastest_eigenvalue_rad_s": self.fastest_rad_s,
-                "rk4_theta": self.theta, "rk4_step_error": self.step_error,
-                "rk4_step_bound": RK4_STEP_BOUND, "rk4_step_tolerance": RK4_STEP_TOLERANCE}
+        return {
+            "substeps": self.substeps,
+            "fastest_eigenvalue_rad_s": self.fastest_rad_s,
+            "rk4_theta": self.theta,
+            "rk4_step_error": self.step_error,
+            "rk4_step_bound": RK4_STEP_BOUND,
+            "rk4_step_tolerance": RK4_STEP_TOLERANCE,
+        }
 
 
 def specimen_state_space(specimen):
@@ -90,8 +98,12 @@ def specimen_state_space(specimen):
         return np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
     ss = specimen.state_space() if hasattr(specimen, "state_space") else specimen
     n = np.size(ss.B)
-    return (np.asarray(ss.A, dtype=float).reshape(n, n), np.asarray(ss.B, dtype=float).ravel(),
-            np.asarray(ss.C, dtype=float).ravel(), float(ss.D))
+    return (
+        np.asarray(ss.A, dtype=float).reshape(n, n),
+        np.asarray(ss.B, dtype=float).ravel(),
+        np.asarray(ss.C, dtype=float).ravel(),
+        float(ss.D),
+    )
 
 
 def coupled_state_matrix(table, specimen=None) -> np.ndarray:
@@ -155,6 +167,14 @@ def resolve_substeps(substeps, table, specimen=None) -> tuple[int, dict]:
     return int(substeps), {"substeps": int(substeps), "substeps_rule": "explicit"}
 
 
-__all__ = ["RK4_STEP_BOUND", "RK4_STEP_TOLERANCE", "SubstepChoice", "choose_substeps",
-           "coupled_state_matrix", "resolve_substeps", "rk4_factor", "rk4_oscillation_error",
-           "specimen_state_space"]
+__all__ = [
+    "RK4_STEP_BOUND",
+    "RK4_STEP_TOLERANCE",
+    "SubstepChoice",
+    "choose_substeps",
+    "coupled_state_matrix",
+    "resolve_substeps",
+    "rk4_factor",
+    "rk4_oscillation_error",
+    "specimen_state_space",
+]

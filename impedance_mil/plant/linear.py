@@ -34,8 +34,7 @@ from ..errors import ConfigError, UnstableSystemError
 from ..systems import TransferFunction
 from .parameters import TableParameters
 from .sampled import SampledTable
-from .statespace import (INPUTS, OUTPUTS, PLANT_STATES, TableStateSpace, feedback_row,
-                         plant_state_space)
+from .statespace import INPUTS, OUTPUTS, PLANT_STATES, TableStateSpace, feedback_row, plant_state_space
 
 #: Delay treatments of the loop time.
 DELAYS = ("none", "first-order", "pade", "sampled")
@@ -56,8 +55,9 @@ def pade_state_space(tau: float, order: int) -> tuple[np.ndarray, np.ndarray, np
     return A1 / tau, b1[:, 0] / scaling / tau, c1[0] * scaling, float(d1[0, 0])
 
 
-def closed_loop_state_space(p: TableParameters, delay: str = "first-order",
-                            pade_order: int = DEFAULT_PADE_ORDER) -> TableStateSpace:
+def closed_loop_state_space(
+    p: TableParameters, delay: str = "first-order", pade_order: int = DEFAULT_PADE_ORDER
+) -> TableStateSpace:
     """Closed hydraulic loop ``u_i = K_v (K_e u - [K_e x + K_p dP](t - tau_s))``.
 
     Parameters
@@ -93,15 +93,18 @@ def closed_loop_state_space(p: TableParameters, delay: str = "first-order",
             raise ConfigError("pade_order", "an integer >= 1", pade_order)
         Ad, bd, cd, dd = pade_state_space(tau, pade_order)
         q = Ad.shape[0]
-        A_cl = np.block([
-            [A - p.Kv * dd * np.outer(b_i, k), -p.Kv * np.outer(b_i, cd)],
-            [np.outer(bd, k), Ad],
-        ])
+        A_cl = np.block(
+            [
+                [A - p.Kv * dd * np.outer(b_i, k), -p.Kv * np.outer(b_i, cd)],
+                [np.outer(bd, k), Ad],
+            ]
+        )
         pad = np.zeros(q)
         C = {name: np.concatenate([row, pad]) for name, row in ol.C.items()}
         states = PLANT_STATES + tuple(f"delay_{i + 1}" for i in range(q))
-        return TableStateSpace(A_cl, np.concatenate([b_u, pad]), np.concatenate([ol.B_w, pad]),
-                               C, ol.D, states)
+        return TableStateSpace(
+            A_cl, np.concatenate([b_u, pad]), np.concatenate([ol.B_w, pad]), C, ol.D, states
+        )
     raise ConfigError("delay", "one of none, first-order, pade", delay)
 
 
@@ -143,17 +146,21 @@ class LinearTable:
             raise ConfigError("delay", "one of " + ", ".join(DELAYS), self.delay)
         if self.delay == "sampled":
             if self.params.loop_time <= 0:
-                raise ConfigError("loop_time", "a positive loop time for delay='sampled'",
-                                  self.params.loop_time)
+                raise ConfigError(
+                    "loop_time", "a positive loop time for delay='sampled'", self.params.loop_time
+                )
             return
-        object.__setattr__(self, "_ss", closed_loop_state_space(self.params, self.delay,
-                                                                self.pade_order))
+        object.__setattr__(self, "_ss", closed_loop_state_space(self.params, self.delay, self.pade_order))
 
     def state_space(self) -> TableStateSpace:
         """The closed-loop state space (continuous delay treatments only)."""
         if self._ss is None:
-            raise ConfigError("delay", "none, first-order or pade for a continuous state space "
-                              "(use LinearTable.sampled() for 'sampled')", self.delay)
+            raise ConfigError(
+                "delay",
+                "none, first-order or pade for a continuous state space "
+                "(use LinearTable.sampled() for 'sampled')",
+                self.delay,
+            )
         return self._ss
 
     def open_loop(self) -> TableStateSpace:
@@ -192,13 +199,16 @@ class LinearTable:
             return self.sampled().is_stable()
         return bool(np.all(self.poles().real < 0))
 
-    def require_stable(self) -> "LinearTable":
+    def require_stable(self) -> LinearTable:
         """Return self, or raise :class:`UnstableSystemError` naming the unstable poles."""
         if not self.is_stable():
             bad = [p for p in self.poles() if p.real >= 0]
-            text = ", ".join(f"{abs(q) / (2 * np.pi):.1f} Hz (real part {q.real:+.2f} rad/s)"
-                             for q in bad) or "|z| >= 1"
+            text = (
+                ", ".join(f"{abs(q) / (2 * np.pi):.1f} Hz (real part {q.real:+.2f} rad/s)" for q in bad)
+                or "|z| >= 1"
+            )
             raise UnstableSystemError(
                 f"the table loop is unstable (Ke={self.params.Ke:g} V/in, Kp={self.params.Kp:g} "
-                f"V/psi, loop_time={self.params.loop_time:g} s, delay={self.delay}): {text}")
+                f"V/psi, loop_time={self.params.loop_time:g} s, delay={self.delay}): {text}"
+            )
         return self

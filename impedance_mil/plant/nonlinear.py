@@ -56,9 +56,31 @@ N_TABLE_STATES = 6
 TABLE_STATE_NAMES = ("x", "v", "P1", "P2", "spool", "spool_rate")
 
 # Parameter-array layout (one definition, used by every kernel).
-(PA_AREA, PA_MID, PA_MASS, PA_KAPPA, PA_KL, PA_KQ, PA_VDEAD, PA_PS, PA_PR,
- PA_PLAM, PA_A1, PA_A2, PA_SMAX, PA_FC, PA_FV, PA_VSMOOTH, PA_KSTOP, PA_CSTOP,
- PA_KE, PA_KP, PA_KV, PA_UVMAX, PA_LOOP) = range(23)
+(
+    PA_AREA,
+    PA_MID,
+    PA_MASS,
+    PA_KAPPA,
+    PA_KL,
+    PA_KQ,
+    PA_VDEAD,
+    PA_PS,
+    PA_PR,
+    PA_PLAM,
+    PA_A1,
+    PA_A2,
+    PA_SMAX,
+    PA_FC,
+    PA_FV,
+    PA_VSMOOTH,
+    PA_KSTOP,
+    PA_CSTOP,
+    PA_KE,
+    PA_KP,
+    PA_KV,
+    PA_UVMAX,
+    PA_LOOP,
+) = range(23)
 N_PARAMS = 23
 
 
@@ -155,8 +177,9 @@ def table_derivative(pa, xt, current, w_state, w_feed, out):
     out : ndarray
         Receives the derivative.
     """
-    z, dp1, dp2, sdd = table_rates(pa, xt[IX_X], xt[IX_V], xt[IX_P1], xt[IX_P2], xt[IX_S],
-                                   xt[IX_SD], current, w_state, w_feed)
+    z, dp1, dp2, sdd = table_rates(
+        pa, xt[IX_X], xt[IX_V], xt[IX_P1], xt[IX_P2], xt[IX_S], xt[IX_SD], current, w_state, w_feed
+    )
     out[IX_X] = xt[IX_V]
     out[IX_V] = z
     out[IX_P1] = dp1
@@ -203,14 +226,16 @@ class Friction:
 
     def __post_init__(self):
         if self.coulomb < 0 or self.viscous < 0:
-            raise ConfigError("friction", "non-negative coulomb [lbf] and viscous [lbf*s/in]",
-                              (self.coulomb, self.viscous))
+            raise ConfigError(
+                "friction", "non-negative coulomb [lbf] and viscous [lbf*s/in]", (self.coulomb, self.viscous)
+            )
         if self.smoothing_velocity <= 0:
-            raise ConfigError("friction.smoothing_velocity", "a positive velocity [in/s]",
-                              self.smoothing_velocity)
+            raise ConfigError(
+                "friction.smoothing_velocity", "a positive velocity [in/s]", self.smoothing_velocity
+            )
 
     @classmethod
-    def none(cls) -> "Friction":
+    def none(cls) -> Friction:
         """No friction (the report's assumption, Eq 4-7b)."""
         return cls(coulomb=0.0, viscous=0.0)
 
@@ -232,8 +257,7 @@ class LinearizedTable:
     def frequency_response(self, output: str, input: str, f_hz) -> np.ndarray:
         """Complex response of ``output`` to ``input`` (``"u"`` or ``"w"``) at ``f_hz`` [Hz]."""
         if output not in self.C or input not in ("u", "w"):
-            raise ConfigError("output/input", f"one of {sorted(self.C)} / 'u' or 'w'",
-                              (output, input))
+            raise ConfigError("output/input", f"one of {sorted(self.C)} / 'u' or 'w'", (output, input))
         c, d_u, d_w = self.C[output]
         b = self.B_u if input == "u" else self.B_w
         d = d_u if input == "u" else d_w
@@ -313,27 +337,37 @@ class NonlinearTable:
     endstop_damping: float = 2.0e3
 
     def __post_init__(self):
-        positive = ("piston_area", "mid_stroke", "mass", "bulk_modulus", "flow_gain",
-                    "dead_volume", "laminar_pressure", "spool_limit", "Kv",
-                    "valve_command_limit", "loop_time")
+        positive = (
+            "piston_area",
+            "mid_stroke",
+            "mass",
+            "bulk_modulus",
+            "flow_gain",
+            "dead_volume",
+            "laminar_pressure",
+            "spool_limit",
+            "Kv",
+            "valve_command_limit",
+            "loop_time",
+        )
         for name in positive:
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise ConfigError(f"table.{name}", "a positive finite number", value)
         if self.leakage < 0:
-            raise ConfigError("table.leakage", "a non-negative coefficient [in^3/s/psi]",
-                              self.leakage)
+            raise ConfigError("table.leakage", "a non-negative coefficient [in^3/s/psi]", self.leakage)
         if self.supply_pressure <= self.return_pressure:
-            raise ConfigError("table.supply_pressure", "a pressure above return_pressure [psi]",
-                              self.supply_pressure)
+            raise ConfigError(
+                "table.supply_pressure", "a pressure above return_pressure [psi]", self.supply_pressure
+            )
         if len(self.valve_poles_hz) != 2 or min(self.valve_poles_hz) <= 0:
-            raise ConfigError("table.valve_poles_hz", "two positive frequencies [Hz]",
-                              self.valve_poles_hz)
+            raise ConfigError("table.valve_poles_hz", "two positive frequencies [Hz]", self.valve_poles_hz)
 
     # ----------------------------------------------------------------- building
     @classmethod
-    def from_linear(cls, p, *, dead_volume: float = 0.5, friction: Friction | None = None,
-                    laminar_pressure: float = 20.0) -> "NonlinearTable":
+    def from_linear(
+        cls, p, *, dead_volume: float = 0.5, friction: Friction | None = None, laminar_pressure: float = 20.0
+    ) -> NonlinearTable:
         """Physical table whose small-signal model is Eq 4-11 for the linear parameters ``p``.
 
         Parameters
@@ -365,20 +399,31 @@ class NonlinearTable:
             raise ConfigError("table.dead_volume", "a positive volume [in^3]", dead_volume)
         omega = TWO_PI * p.f_oil_hz
         v0 = p.piston_area * p.mid_stroke + dead_volume
-        kappa = omega ** 2 * p.mass * v0 / (2.0 * p.piston_area ** 2)
+        kappa = omega**2 * p.mass * v0 / (2.0 * p.piston_area**2)
         half_drop = 0.5 * (p.supply_pressure - p.return_pressure)
         f_eq = orifice(half_drop, laminar_pressure)
         return cls(
-            piston_area=p.piston_area, mid_stroke=p.mid_stroke, mass=p.mass,
-            bulk_modulus=kappa, leakage=p.zeta_oil * omega * v0 / kappa,
-            flow_gain=p.d * v0 / (2.0 * kappa * f_eq), dead_volume=dead_volume,
+            piston_area=p.piston_area,
+            mid_stroke=p.mid_stroke,
+            mass=p.mass,
+            bulk_modulus=kappa,
+            leakage=p.zeta_oil * omega * v0 / kappa,
+            flow_gain=p.d * v0 / (2.0 * kappa * f_eq),
+            dead_volume=dead_volume,
             valve_poles_hz=tuple(float(f) for f in p.valve_poles_hz),
-            supply_pressure=p.supply_pressure, return_pressure=p.return_pressure,
-            laminar_pressure=laminar_pressure, spool_limit=p.rated_current,
-            Ke=p.Ke, Kp=p.Kp, Kv=p.Kv, valve_command_limit=p.valve_command_limit,
-            loop_time=p.loop_time, friction=Friction() if friction is None else friction)
+            supply_pressure=p.supply_pressure,
+            return_pressure=p.return_pressure,
+            laminar_pressure=laminar_pressure,
+            spool_limit=p.rated_current,
+            Ke=p.Ke,
+            Kp=p.Kp,
+            Kv=p.Kv,
+            valve_command_limit=p.valve_command_limit,
+            loop_time=p.loop_time,
+            friction=Friction() if friction is None else friction,
+        )
 
-    def with_gains(self, **changes) -> "NonlinearTable":
+    def with_gains(self, **changes) -> NonlinearTable:
         """Copy with changed fields (e.g. ``Kp=0.0002``)."""
         return replace(self, **changes)
 
@@ -441,8 +486,9 @@ class NonlinearTable:
     def derivative(self, state, current: float, w: float = 0.0) -> tuple[np.ndarray, float]:
         """State derivative and table acceleration z [in/s^2] for valve current [mA] and force w [lbf]."""
         out = np.empty(N_TABLE_STATES)
-        z = table_derivative(self.parameter_array(), np.asarray(state, dtype=float),
-                             float(current), float(w), 0.0, out)
+        z = table_derivative(
+            self.parameter_array(), np.asarray(state, dtype=float), float(current), float(w), 0.0, out
+        )
         return out, z
 
     def linearize(self, *, continuous_feedback: bool = True) -> LinearizedTable:
@@ -458,8 +504,11 @@ class NonlinearTable:
         n = N_TABLE_STATES
 
         def rhs(x, u, w):
-            cur = self.Kv * (self.Ke * (u - x[IX_X]) - self.Kp * (x[IX_P1] - x[IX_P2])) \
-                if continuous_feedback else u
+            cur = (
+                self.Kv * (self.Ke * (u - x[IX_X]) - self.Kp * (x[IX_P1] - x[IX_P2]))
+                if continuous_feedback
+                else u
+            )
             out = np.empty(n)
             z = table_derivative(pa, x, cur, w, 0.0, out)
             return np.append(out, z)
@@ -480,5 +529,4 @@ class NonlinearTable:
             "z": (jac[n], b_u[n], b_w[n]),
             "dp": (dp_row, 0.0, 0.0),
         }
-        return LinearizedTable(A=jac[:n], B_u=b_u[:n], B_w=b_w[:n], C=outputs,
-                               state_names=TABLE_STATE_NAMES)
+        return LinearizedTable(A=jac[:n], B_u=b_u[:n], B_w=b_w[:n], C=outputs, state_names=TABLE_STATE_NAMES)

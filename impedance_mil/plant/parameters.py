@@ -12,9 +12,10 @@ Two physical alternatives are accepted in files and ``--set`` overrides:
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from ..config import Field, parse_fields, read_toml
 from ..errors import ConfigError
@@ -39,8 +40,7 @@ FIELDS: dict[str, Field] = {
     "supply_pressure": Field("psi", "positive", default=3000.0, help="supply pressure P_S"),
     "return_pressure": Field("psi", "nonnegative", default=0.0, help="return pressure P_R"),
     "rated_flow": Field("inch**3 / second", "positive", default=57.75, help="rated valve flow Q_max"),
-    "rated_pressure_drop": Field("psi", "positive", default=1000.0,
-                                 help="valve pressure drop at rated flow"),
+    "rated_pressure_drop": Field("psi", "positive", default=1000.0, help="valve pressure drop at rated flow"),
     "rated_current": Field("milliampere", "positive", default=25.0, help="rated valve current"),
     "valve_command_limit": Field("volt", "positive", default=10.0, help="valve command limit |u_v|"),
 }
@@ -48,13 +48,14 @@ FIELDS: dict[str, Field] = {
 #: Physical alternatives: key -> (replaced key, Field).
 ALTERNATIVES: dict[str, tuple[str, Field]] = {
     "bulk_modulus": ("f_oil_hz", Field("psi", "positive", help="oil bulk modulus kappa (Eq 4-10a)")),
-    "leakage_coefficient": ("zeta_oil", Field("inch**3 / second / psi", "nonnegative",
-                                              help="piston leakage coefficient K_l (Eq 4-10b)")),
+    "leakage_coefficient": (
+        "zeta_oil",
+        Field("inch**3 / second / psi", "nonnegative", help="piston leakage coefficient K_l (Eq 4-10b)"),
+    ),
 }
 
 
-def oil_column_frequency(bulk_modulus: float, piston_area: float, mass: float,
-                         mid_stroke: float) -> float:
+def oil_column_frequency(bulk_modulus: float, piston_area: float, mass: float, mid_stroke: float) -> float:
     """Oil-column angular frequency, Eq 4-10a: ``sqrt(2 A_p kappa / (m_st x_m))``.
 
     Parameters
@@ -81,14 +82,16 @@ def oil_column_frequency(bulk_modulus: float, piston_area: float, mass: float,
     return math.sqrt(2.0 * piston_area * bulk_modulus / (mass * mid_stroke))
 
 
-def bulk_modulus_from_frequency(omega_oil: float, piston_area: float, mass: float,
-                                mid_stroke: float) -> float:
+def bulk_modulus_from_frequency(
+    omega_oil: float, piston_area: float, mass: float, mid_stroke: float
+) -> float:
     """Bulk modulus kappa [psi] that gives ``omega_oil`` [rad/s] (Eq 4-10a inverted)."""
     return omega_oil**2 * mass * mid_stroke / (2.0 * piston_area)
 
 
-def oil_column_damping(leakage_coefficient: float, bulk_modulus: float, piston_area: float,
-                       mass: float, mid_stroke: float) -> float:
+def oil_column_damping(
+    leakage_coefficient: float, bulk_modulus: float, piston_area: float, mass: float, mid_stroke: float
+) -> float:
     """Oil-column damping ratio, Eq 4-10b: ``K_l sqrt(m_st kappa / (2 A_p^3 x_m))``.
 
     Parameters
@@ -112,9 +115,16 @@ def oil_column_damping(leakage_coefficient: float, bulk_modulus: float, piston_a
     return leakage_coefficient * math.sqrt(mass * bulk_modulus / (2.0 * piston_area**3 * mid_stroke))
 
 
-def model_constant_d(bulk_modulus: float, piston_area: float, mid_stroke: float,
-                     orifice_coefficient: float, supply_pressure: float, fluid_density: float,
-                     valve_flow_gain: float, spool_flow_gain: float) -> float:
+def model_constant_d(
+    bulk_modulus: float,
+    piston_area: float,
+    mid_stroke: float,
+    orifice_coefficient: float,
+    supply_pressure: float,
+    fluid_density: float,
+    valve_flow_gain: float,
+    spool_flow_gain: float,
+) -> float:
     """Model constant d of Eq 4-11, from Eq 4-12 (as corrected in docs/errata.md).
 
     ``d = 2 kappa / (A_p x_m) * C_d G sqrt(P_S / rho) * K_r / K_s``: the
@@ -146,16 +156,22 @@ def model_constant_d(bulk_modulus: float, piston_area: float, mid_stroke: float,
     float
         d [psi/(s*mA)].
     """
-    pressure_rate_per_spool = (2.0 * bulk_modulus / (piston_area * mid_stroke)
-                               * orifice_coefficient * math.sqrt(supply_pressure / fluid_density))
+    pressure_rate_per_spool = (
+        2.0
+        * bulk_modulus
+        / (piston_area * mid_stroke)
+        * orifice_coefficient
+        * math.sqrt(supply_pressure / fluid_density)
+    )
     return pressure_rate_per_spool * valve_flow_gain / spool_flow_gain
 
 
 def _check_positive(name: str, value: float, allow_zero: bool = False) -> None:
     ok = value >= 0 if allow_zero else value > 0
     if not (math.isfinite(value) and ok):
-        raise ConfigError(name, "a non-negative finite value" if allow_zero
-                          else "a positive finite value", value)
+        raise ConfigError(
+            name, "a non-negative finite value" if allow_zero else "a positive finite value", value
+        )
 
 
 @dataclass(frozen=True)
@@ -227,9 +243,19 @@ class TableParameters:
     def __post_init__(self):
         for name in ("Ke", "Kp", "loop_time", "zeta_oil", "return_pressure"):
             _check_positive(name, float(getattr(self, name)), allow_zero=True)
-        for name in ("Kv", "piston_area", "mid_stroke", "mass", "d", "f_oil_hz",
-                     "supply_pressure", "rated_flow", "rated_pressure_drop", "rated_current",
-                     "valve_command_limit"):
+        for name in (
+            "Kv",
+            "piston_area",
+            "mid_stroke",
+            "mass",
+            "d",
+            "f_oil_hz",
+            "supply_pressure",
+            "rated_flow",
+            "rated_pressure_drop",
+            "rated_current",
+            "valve_command_limit",
+        ):
             _check_positive(name, float(getattr(self, name)))
         poles = tuple(float(f) for f in self.valve_poles_hz)
         if len(poles) != 2:
@@ -243,12 +269,12 @@ class TableParameters:
 
     # ------------------------------------------------------------ constructors
     @classmethod
-    def report_default(cls) -> "TableParameters":
+    def report_default(cls) -> TableParameters:
         """Table 4.1 of the report, with d = 1e5 (docs/errata.md, Table 4.1)."""
         return cls.from_toml(default_table_path())
 
     @classmethod
-    def from_mapping(cls, mapping: Mapping[str, Any], *, where: str = "") -> "TableParameters":
+    def from_mapping(cls, mapping: Mapping[str, Any], *, where: str = "") -> TableParameters:
         """Build from raw values (bare numbers in report units or strings with units).
 
         Raises
@@ -272,13 +298,15 @@ class TableParameters:
             kappa = bulk_modulus_from_frequency(TWO_PI * values["f_oil_hz"], *args)
             values["zeta_oil"] = oil_column_damping(physical["leakage_coefficient"], kappa, *args)
             if not values["zeta_oil"] < 1:
-                raise ConfigError(f"{where}leakage_coefficient", "a value giving zeta_oil < 1",
-                                  physical["leakage_coefficient"])
+                raise ConfigError(
+                    f"{where}leakage_coefficient",
+                    "a value giving zeta_oil < 1",
+                    physical["leakage_coefficient"],
+                )
         return cls(**values)
 
     @classmethod
-    def from_toml(cls, path: str | Path, overrides: Mapping[str, Any] | None = None
-                  ) -> "TableParameters":
+    def from_toml(cls, path: str | Path, overrides: Mapping[str, Any] | None = None) -> TableParameters:
         """Read a table file; ``overrides`` (e.g. from ``--set``) win over the file.
 
         An override of a physical alternative (``bulk_modulus``) replaces the
@@ -306,7 +334,7 @@ class TableParameters:
         return cls.from_mapping(merged)
 
     # -------------------------------------------------------------- utilities
-    def replace(self, **changes: Any) -> "TableParameters":
+    def replace(self, **changes: Any) -> TableParameters:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
 
@@ -330,14 +358,12 @@ class TableParameters:
     @property
     def bulk_modulus(self) -> float:
         """Bulk modulus kappa [psi] consistent with ``f_oil_hz`` (Eq 4-10a)."""
-        return bulk_modulus_from_frequency(self.omega_oil, self.piston_area, self.mass,
-                                           self.mid_stroke)
+        return bulk_modulus_from_frequency(self.omega_oil, self.piston_area, self.mass, self.mid_stroke)
 
     @property
     def leakage_coefficient(self) -> float:
         """Leakage coefficient K_l [in^3/s/psi] consistent with ``zeta_oil`` (Eq 4-10b)."""
-        unit = oil_column_damping(1.0, self.bulk_modulus, self.piston_area, self.mass,
-                                  self.mid_stroke)
+        unit = oil_column_damping(1.0, self.bulk_modulus, self.piston_area, self.mass, self.mid_stroke)
         return self.zeta_oil / unit
 
     @property

@@ -24,8 +24,15 @@ import scipy.linalg
 
 from ..errors import ConfigError
 from .parameters import TableParameters
-from .statespace import (INPUTS, OUTPUTS, PLANT_STATES, feedback_row, plant_state_space,
-                         resolvent_response, ss_to_tf)
+from .statespace import (
+    INPUTS,
+    OUTPUTS,
+    PLANT_STATES,
+    feedback_row,
+    plant_state_space,
+    resolvent_response,
+    ss_to_tf,
+)
 
 
 @dataclass(frozen=True)
@@ -43,8 +50,12 @@ class DiscreteTransferFunction:
 
     def to_dict(self) -> dict:
         """``{"num": [...], "den": [...], "dt": ..., "variable": "z"}``."""
-        return {"num": [float(c) for c in self.num], "den": [float(c) for c in self.den],
-                "dt": float(self.dt), "variable": "z"}
+        return {
+            "num": [float(c) for c in self.num],
+            "den": [float(c) for c in self.den],
+            "dt": float(self.dt),
+            "variable": "z",
+        }
 
 
 def zoh_discretize(A: np.ndarray, B: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
@@ -83,11 +94,10 @@ class SampledTable:
     dt: float
 
     @classmethod
-    def from_params(cls, p: TableParameters) -> "SampledTable":
+    def from_params(cls, p: TableParameters) -> SampledTable:
         """Discretize Eq 4-11 with ZOH over ``p.loop_time`` and close the one-loop-delayed feedback."""
         if not p.loop_time > 0:
-            raise ConfigError("loop_time", "a positive loop time for the sampled-data model",
-                              p.loop_time)
+            raise ConfigError("loop_time", "a positive loop time for the sampled-data model", p.loop_time)
         ol = plant_state_space(p)
         phi, gam = zoh_discretize(ol.A, np.column_stack([ol.B_u, ol.B_w]), p.loop_time)
         g_i, g_w = gam[:, 0], gam[:, 1]
@@ -147,4 +157,4 @@ def _trim_leading(num: np.ndarray, den: np.ndarray, rtol: float = 1e-12) -> np.n
     """Drop leading numerator coefficients that are round-off relative to the polynomial."""
     scale = np.max(np.abs(num)) if num.size else 0.0
     nz = np.nonzero(np.abs(num) > rtol * scale)[0] if scale > 0 else np.array([num.size - 1])
-    return num[nz[0]:].copy()
+    return num[nz[0] :].copy()

@@ -8,8 +8,8 @@ state in equivalent current [mA] (unit DC gain from u_i), ``spool_rate``
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Mapping
 
 import numpy as np
 import scipy.linalg
@@ -89,15 +89,17 @@ class TableStateSpace:
         return resolvent_response(self.A, self.input_vector(input), self.C[output], feed, s)
 
 
-def resolvent_response(A: np.ndarray, b: np.ndarray, c: np.ndarray, d: float,
-                       points: np.ndarray) -> np.ndarray:
+def resolvent_response(
+    A: np.ndarray, b: np.ndarray, c: np.ndarray, d: float, points: np.ndarray
+) -> np.ndarray:
     """``c (p I - A)^-1 b + d`` at each complex point p (s or z)."""
     eye = np.eye(A.shape[0])
     return np.array([c @ np.linalg.solve(p * eye - A, b) + d for p in np.atleast_1d(points)])
 
 
-def ss_to_tf(A: np.ndarray, b: np.ndarray, c: np.ndarray, d: float = 0.0,
-             rtol: float = ROUNDOFF_RTOL) -> tuple[np.ndarray, np.ndarray]:
+def ss_to_tf(
+    A: np.ndarray, b: np.ndarray, c: np.ndarray, d: float = 0.0, rtol: float = ROUNDOFF_RTOL
+) -> tuple[np.ndarray, np.ndarray]:
     """SISO transfer function of ``(A, b, c, d)`` with exact structural zeros.
 
     Three conversions are computed: the Faddeev-LeVerrier recursion
@@ -134,7 +136,7 @@ def ss_to_tf(A: np.ndarray, b: np.ndarray, c: np.ndarray, d: float = 0.0,
     num_lv, den_lv, structural = _leverrier(A, b, c, float(d))
     nums, den_sp = scipy.signal.ss2tf(A, b.reshape(n, 1), c.reshape(1, n), float(d))
     num_sp = np.zeros(n + 1)
-    num_sp[n + 1 - nums.shape[1]:] = nums[0]
+    num_sp[n + 1 - nums.shape[1] :] = nums[0]
     origin_zeros = _zeros_at_origin(A, b, c, float(d), rtol)
     den_sp = np.asarray(den_sp, dtype=float)
     candidates = []
@@ -142,15 +144,19 @@ def ss_to_tf(A: np.ndarray, b: np.ndarray, c: np.ndarray, d: float = 0.0,
         num = num.copy()
         num[structural] = 0.0
         if origin_zeros:
-            num[n + 1 - origin_zeros:] = 0.0
+            num[n + 1 - origin_zeros :] = 0.0
         candidates.append((num, den))
     scale = np.abs(np.linalg.eigvals(A))
     scale = scale[scale > 0]
     top = scale.max() * 10 if scale.size else 10.0
     points = 1j * np.geomspace(scale.min() / 10 if scale.size else 0.1, top, 16)
     ref = resolvent_response(A, b, c, d, points)
-    errors = [np.max(np.abs(np.polyval(nm, points) / np.polyval(dn, points) - ref)
-                     / np.maximum(np.abs(ref), 1e-300)) for nm, dn in candidates]
+    errors = [
+        np.max(
+            np.abs(np.polyval(nm, points) / np.polyval(dn, points) - ref) / np.maximum(np.abs(ref), 1e-300)
+        )
+        for nm, dn in candidates
+    ]
     return candidates[int(np.argmin(errors))]
 
 
@@ -170,7 +176,7 @@ def _zeros_numerator(A, b, c, d, n):
         power = A @ power
     out = np.zeros(n + 1)
     poly = gain * np.real(np.poly(z)) if z.size else np.array([gain])
-    out[n + 1 - poly.size:] = poly
+    out[n + 1 - poly.size :] = poly
     return out
 
 
@@ -223,13 +229,15 @@ def plant_state_space(p: TableParameters) -> TableStateSpace:
     gamma, delta = a1 * a2, a1 + a2
     w2, eps = p.omega_oil**2, 2.0 * p.zeta_oil * p.omega_oil
     m, ap = p.mass, p.piston_area
-    A = np.array([
-        [0.0, 1.0, 0.0, 0.0, 0.0],
-        [0.0, 0.0, ap / m, 0.0, 0.0],
-        [0.0, -w2 * m / ap, -eps, p.d, 0.0],
-        [0.0, 0.0, 0.0, 0.0, 1.0],
-        [0.0, 0.0, 0.0, -gamma, -delta],
-    ])
+    A = np.array(
+        [
+            [0.0, 1.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, ap / m, 0.0, 0.0],
+            [0.0, -w2 * m / ap, -eps, p.d, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 1.0],
+            [0.0, 0.0, 0.0, -gamma, -delta],
+        ]
+    )
     B_i = np.array([0.0, 0.0, 0.0, 0.0, gamma])
     B_w = np.array([0.0, 1.0 / m, 0.0, 0.0, 0.0])
     C = {"z": A[1].copy(), "x": np.eye(5)[0], "v": np.eye(5)[1], "dp": np.eye(5)[2]}
@@ -240,5 +248,3 @@ def plant_state_space(p: TableParameters) -> TableStateSpace:
 def feedback_row(p: TableParameters) -> np.ndarray:
     """Row ``k`` with ``k x = K_e x_st + K_p dP`` [V], the delayed feedback of Section 4.3.4."""
     return np.array([p.Ke, 0.0, p.Kp, 0.0, 0.0])
-
-

@@ -45,8 +45,13 @@ class Mode:
         return float(-self.pole.real / w) if w > 0 else float("nan")
 
     def to_dict(self) -> dict:
-        return {"label": self.label, "frequency_hz": self.frequency_hz, "damping": self.damping,
-                "real": float(self.pole.real), "imag": float(self.pole.imag)}
+        return {
+            "label": self.label,
+            "frequency_hz": self.frequency_hz,
+            "damping": self.damping,
+            "real": float(self.pole.real),
+            "imag": float(self.pole.imag),
+        }
 
 
 def _match(previous: np.ndarray, current: np.ndarray) -> np.ndarray:
@@ -63,8 +68,9 @@ def _open_loop_poles(p: TableParameters) -> np.ndarray:
     return np.array([0.0, -a1, -a2, -z * w + 1j * wd, -z * w - 1j * wd], dtype=complex)
 
 
-def _continue(p: TableParameters, start: np.ndarray, name: str, target: float, delay: str,
-              steps: int = _STEPS) -> np.ndarray:
+def _continue(
+    p: TableParameters, start: np.ndarray, name: str, target: float, delay: str, steps: int = _STEPS
+) -> np.ndarray:
     poles = start
     begin = getattr(p, name)
     for value in np.linspace(begin, target, steps + 1)[1:]:
@@ -137,8 +143,7 @@ class PoleSweep:
         return [Mode(lbl, complex(pl)) for lbl, pl in zip(self.labels, self.poles[index])]
 
 
-def sweep(p: TableParameters, name: str, values, delay: str = "first-order",
-          steps: int = 4) -> PoleSweep:
+def sweep(p: TableParameters, name: str, values, delay: str = "first-order", steps: int = 4) -> PoleSweep:
     """Track the labelled poles while ``name`` takes ``values`` (others as in ``p``).
 
     Parameters
@@ -169,8 +174,9 @@ def _unstable(p: TableParameters, delay: str) -> bool:
     return not LinearTable(p, delay=delay).is_stable()
 
 
-def stability_limit(p: TableParameters, name: str, upper: float, delay: str = "first-order",
-                    points: int = 200) -> float | None:
+def stability_limit(
+    p: TableParameters, name: str, upper: float, delay: str = "first-order", points: int = 200
+) -> float | None:
     """Smallest value of ``name`` in (0, upper] at which the loop becomes unstable.
 
     Scans ``points`` values, then bisects to 1e-6 relative.  Returns None when
@@ -192,13 +198,15 @@ def stability_limit(p: TableParameters, name: str, upper: float, delay: str = "f
     return None
 
 
-def breakaway(p: TableParameters, name: str, upper: float, delay: str = "none",
-              points: int = 200) -> float | None:
+def breakaway(
+    p: TableParameters, name: str, upper: float, delay: str = "none", points: int = 200
+) -> float | None:
     """Value of ``name`` at which the real poles p1 and p2 meet and become complex.
 
     (Report: K_e = 39.3 V/in with K_p = 0, tau = 0; K_p = 0.0006 V/psi with
     K_e = 5 V/in, tau = 0.)  Returns None when they stay real up to ``upper``.
     """
+
     def complex_pair(value: float) -> bool:
         modes = labelled_poles(p.replace(**{name: value}), delay)
         return abs(modes[0].pole.imag) > 1e-6 * abs(modes[0].pole)
@@ -235,12 +243,12 @@ class KpRecommendation:
     frequency_hz: float
 
 
-def recommend_kp(p: TableParameters, delay: str = "first-order", upper: float = 0.005
-                 ) -> KpRecommendation:
+def recommend_kp(p: TableParameters, delay: str = "first-order", upper: float = 0.005) -> KpRecommendation:
     """K_p [V/psi] that maximizes the oil-column (p4) damping, K_e and loop time as in ``p``.
 
     Report Section 4.4.3: about 0.001 V/psi for K_e = 5 V/in, tau = 0.
     """
+
     def negative_damping(kp: float) -> float:
         return -oil_column_mode(p.replace(Kp=float(kp)), delay).damping
 
@@ -248,8 +256,9 @@ def recommend_kp(p: TableParameters, delay: str = "first-order", upper: float = 
     values = [negative_damping(k) for k in grid]
     i = int(np.argmin(values))
     lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
-    res = scipy.optimize.minimize_scalar(negative_damping, bounds=(lo, hi), method="bounded",
-                                         options={"xatol": 1e-7})
+    res = scipy.optimize.minimize_scalar(
+        negative_damping, bounds=(lo, hi), method="bounded", options={"xatol": 1e-7}
+    )
     mode = oil_column_mode(p.replace(Kp=float(res.x)), delay)
     return KpRecommendation(float(res.x), mode.damping, mode.frequency_hz)
 
@@ -275,8 +284,10 @@ class DelayComparison:
     def errors(self, reference: str = "pade") -> tuple[float, float]:
         """First-order minus reference: (damping error [-], relative frequency error [-])."""
         ref = self.pade if reference == "pade" else self.sampled
-        return (self.first_order.damping - ref.damping,
-                self.first_order.frequency_hz / ref.frequency_hz - 1.0)
+        return (
+            self.first_order.damping - ref.damping,
+            self.first_order.frequency_hz / ref.frequency_hz - 1.0,
+        )
 
 
 def compare_delay_models(p: TableParameters, loop_times) -> list[DelayComparison]:
@@ -286,14 +297,24 @@ def compare_delay_models(p: TableParameters, loop_times) -> list[DelayComparison
         if not tau > 0:
             raise ConfigError("loop_time", "positive loop times", float(tau))
         q = p.replace(loop_time=float(tau))
-        rows.append(DelayComparison(float(tau), oil_column_mode(q, "first-order"),
-                                    oil_column_mode(q, "pade"), oil_column_mode(q, "sampled")))
+        rows.append(
+            DelayComparison(
+                float(tau),
+                oil_column_mode(q, "first-order"),
+                oil_column_mode(q, "pade"),
+                oil_column_mode(q, "sampled"),
+            )
+        )
     return rows
 
 
-def first_order_validity_limit(p: TableParameters, reference: str = "pade",
-                               damping_tolerance: float = 0.01, frequency_tolerance: float = 0.02,
-                               upper: float = 4e-3) -> float | None:
+def first_order_validity_limit(
+    p: TableParameters,
+    reference: str = "pade",
+    damping_tolerance: float = 0.01,
+    frequency_tolerance: float = 0.02,
+    upper: float = 4e-3,
+) -> float | None:
     """Longest loop time [s] for which the first-order delay model (Eq 4-13) is valid.
 
     Valid means its oil-column damping is within ``damping_tolerance``

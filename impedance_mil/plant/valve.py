@@ -65,8 +65,7 @@ def read_valve_curve(path: str | Path) -> ValveCurve:
         raise DataFileError(p, "empty valve curve")
     header = [h.strip() for h in rows[0]]
     if "frequency_hz" not in header or not ({"amplitude_ratio", "phase_lag_deg"} & set(header)):
-        raise DataFileError(p, "expected a header with frequency_hz and amplitude_ratio and/or "
-                               "phase_lag_deg")
+        raise DataFileError(p, "expected a header with frequency_hz and amplitude_ratio and/or phase_lag_deg")
     columns: dict[str, list[float]] = {h: [] for h in header}
     for n, row in enumerate(rows[1:], start=2):
         if len(row) != len(header):
@@ -154,8 +153,14 @@ def fit_valve_poles(curve: ValveCurve, fmax_hz: float = 100.0) -> ValveFit:
             best = sol
     f1, f2 = sorted(np.exp(best.x))
     h = _model(curve.frequency_hz[mask], f1, f2)
-    amp_err = (float(np.max(np.abs(20 * np.log10(np.abs(h) / curve.amplitude_ratio[mask]))))
-               if curve.amplitude_ratio is not None else float("nan"))
-    ph_err = (float(np.max(np.abs(-np.degrees(np.angle(h)) - curve.phase_lag_deg[mask])))
-              if curve.phase_lag_deg is not None else float("nan"))
+    amp_err = (
+        float(np.max(np.abs(20 * np.log10(np.abs(h) / curve.amplitude_ratio[mask]))))
+        if curve.amplitude_ratio is not None
+        else float("nan")
+    )
+    ph_err = (
+        float(np.max(np.abs(-np.degrees(np.angle(h)) - curve.phase_lag_deg[mask])))
+        if curve.phase_lag_deg is not None
+        else float("nan")
+    )
     return ValveFit((float(f1), float(f2)), amp_err, ph_err)

@@ -12,7 +12,7 @@ writes them.
 
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from collections.abc import Sequence
 
 import matplotlib
 
@@ -22,8 +22,14 @@ import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
 import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from ..design import (ConstraintResult, DesignCriteria, TableModel, VirtualModel,  # noqa: E402
-                      controlled_table, ideal_controller)
+from ..design import (  # noqa: E402
+    ConstraintResult,
+    DesignCriteria,
+    TableModel,
+    VirtualModel,
+    controlled_table,
+    ideal_controller,
+)
 from ..design.controller import filter_controller  # noqa: E402
 from ..design.forms import environment  # noqa: E402
 
@@ -38,9 +44,16 @@ def _wu_ideal(ideal, vs: VirtualModel, form: str, f: np.ndarray) -> np.ndarray:
     return out
 
 
-def plot_design_rows(table: TableModel, vs: Optional[VirtualModel], fcs_hz: Sequence[float], *,
-                     form: str = "standardized", family: str = "butterworth",
-                     order: Optional[int] = None, title: str = "") -> Figure:
+def plot_design_rows(
+    table: TableModel,
+    vs: VirtualModel | None,
+    fcs_hz: Sequence[float],
+    *,
+    form: str = "standardized",
+    family: str = "butterworth",
+    order: int | None = None,
+    title: str = "",
+) -> Figure:
     """Figure 9.31: impedances, controller response, Nyquist plot; one row per cut-off.
 
     Parameters
@@ -99,8 +112,12 @@ def plot_design_rows(table: TableModel, vs: Optional[VirtualModel], fcs_hz: Sequ
     return fig
 
 
-def plot_constraint_summary(results: Sequence[ConstraintResult], criteria: Optional[DesignCriteria] = None,
-                            feasible_fc_hz: Optional[tuple[float, float]] = None, title: str = "") -> Figure:
+def plot_constraint_summary(
+    results: Sequence[ConstraintResult],
+    criteria: DesignCriteria | None = None,
+    feasible_fc_hz: tuple[float, float] | None = None,
+    title: str = "",
+) -> Figure:
     """Constraints I, II, III against the cut-off f_c, thresholds dashed, feasible range shaded.
 
     Parameters
@@ -123,7 +140,13 @@ def plot_constraint_summary(results: Sequence[ConstraintResult], criteria: Optio
         ([r.passivity_tolerant_margin_deg for r in rs], 0.0, "III: passivity margin [deg]", False),
     ]
     for ax, (values, limit, label, log) in zip(axes, series):
-        ok = [r.I for r in rs] if "I:" in label else [r.II for r in rs] if "II:" in label else [r.III for r in rs]
+        ok = (
+            [r.I for r in rs]
+            if "I:" in label
+            else [r.II for r in rs]
+            if "II:" in label
+            else [r.III for r in rs]
+        )
         ax.plot(fc, values, "k-", lw=1)
         ax.scatter(fc, values, c=["tab:green" if o else "tab:red" for o in ok], zorder=3, s=18)
         ax.axhline(limit, color="tab:red", ls="--", lw=1)

@@ -19,9 +19,10 @@ import base64
 import html
 import io
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 import matplotlib
 
@@ -90,8 +91,10 @@ def figure_png(fig: Figure, alt: str, caption: str = "", dpi: int = 110) -> str:
         plt.close(fig)
     data = base64.b64encode(buffer.getvalue()).decode("ascii")
     cap = f"<figcaption>{escape(caption)}</figcaption>" if caption else ""
-    return (f'<figure><img src="data:image/png;base64,{data}" alt="{escape(alt)}" '
-            f'width="{width}" height="{height}">{cap}</figure>')
+    return (
+        f'<figure><img src="data:image/png;base64,{data}" alt="{escape(alt)}" '
+        f'width="{width}" height="{height}">{cap}</figure>'
+    )
 
 
 def figure_svg(fig: Figure, caption: str = "") -> str:
@@ -102,7 +105,7 @@ def figure_svg(fig: Figure, caption: str = "") -> str:
     finally:
         plt.close(fig)
     text = buffer.getvalue()
-    svg = text[text.index("<svg"):]
+    svg = text[text.index("<svg") :]
     cap = f"<figcaption>{escape(caption)}</figcaption>" if caption else ""
     return f"<figure>{svg}{cap}</figure>"
 
@@ -110,8 +113,8 @@ def figure_svg(fig: Figure, caption: str = "") -> str:
 def key_value_table(rows: Mapping[str, Any], header: tuple[str, str] = ("quantity", "value")) -> str:
     """A two-column table of names and values (numbers right-aligned, 4 significant figures)."""
     body = "".join(
-        f"<tr><td>{escape(k)}</td><td class=\"num\">{escape(fmt_number(v))}</td></tr>"
-        for k, v in rows.items())
+        f'<tr><td>{escape(k)}</td><td class="num">{escape(fmt_number(v))}</td></tr>' for k, v in rows.items()
+    )
     return f"<table><tr><th>{escape(header[0])}</th><th>{escape(header[1])}</th></tr>{body}</table>"
 
 
@@ -137,12 +140,14 @@ def flatten(mapping: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
 def html_page(title: str, sections: Sequence[str], subtitle: str = "") -> str:
     """A complete, self-contained HTML document (inline CSS, no scripts)."""
     sub = f'<p class="meta">{escape(subtitle)}</p>' if subtitle else ""
-    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-            f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
-            # an empty data: icon keeps browsers from fetching /favicon.ico
-            "<link rel=\"icon\" href=\"data:,\">"
-            f"<title>{escape(title)}</title><style>{_CSS}</style></head>"
-            f"<body><h1>{escape(title)}</h1>{sub}{''.join(sections)}</body></html>\n")
+    return (
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+        f'<meta name="viewport" content="width=device-width, initial-scale=1">'
+        # an empty data: icon keeps browsers from fetching /favicon.ico
+        '<link rel="icon" href="data:,">'
+        f"<title>{escape(title)}</title><style>{_CSS}</style></head>"
+        f"<body><h1>{escape(title)}</h1>{sub}{''.join(sections)}</body></html>\n"
+    )
 
 
 def write_html(path: str | Path, text: str) -> Path:
@@ -152,8 +157,9 @@ def write_html(path: str | Path, text: str) -> Path:
 
 def new_figure(width: float = 7.0, height: float = 3.2, rows: int = 1) -> tuple[Figure, Any]:
     """A figure with ``rows`` stacked axes sharing x (constrained layout)."""
-    fig, axes = plt.subplots(rows, 1, figsize=(width, height * rows), sharex=True,
-                             layout="constrained", squeeze=False)
+    fig, axes = plt.subplots(
+        rows, 1, figsize=(width, height * rows), sharex=True, layout="constrained", squeeze=False
+    )
     return fig, axes[:, 0]
 
 
@@ -228,11 +234,17 @@ class RunView:
         return float(self.time_s[1] - self.time_s[0]) if self.time_s.size > 1 else 0.0
 
     @classmethod
-    def from_channels(cls, channels: Mapping[str, Any], *, title: str = "Run",
-                      metrics: Mapping[str, Any] | None = None,
-                      config: Mapping[str, Any] | None = None, status: str = "completed",
-                      m_vs: float | None = None,
-                      model_loop: tuple[Any, Any] | None = None) -> "RunView":
+    def from_channels(
+        cls,
+        channels: Mapping[str, Any],
+        *,
+        title: str = "Run",
+        metrics: Mapping[str, Any] | None = None,
+        config: Mapping[str, Any] | None = None,
+        status: str = "completed",
+        m_vs: float | None = None,
+        model_loop: tuple[Any, Any] | None = None,
+    ) -> RunView:
         """Build a view from named channel arrays (the lab's channel names).
 
         Parameters
@@ -252,8 +264,9 @@ class RunView:
         get = lambda name: None if channels.get(name) is None else np.asarray(channels[name], float)
         a_g, z_vs, x, w = get("a_g"), get("z_vs"), get("x"), get("w")
         target = z_vs if z_vs is not None and np.any(z_vs != 0.0) else a_g
-        histories = {name: (get(name), unit) for name, unit in (("w", "lbf"), ("u_w", "in"))
-                     if get(name) is not None}
+        histories = {
+            name: (get(name), unit) for name, unit in (("w", "lbf"), ("u_w", "in")) if get(name) is not None
+        }
         loops: tuple[ForceDisplacement, ...] = ()
         if m_vs is not None and w is not None and x is not None and a_g is not None and t.size > 1:
             _, x_g = integrate_piecewise_linear(a_g, float(t[1] - t[0]))
@@ -261,15 +274,30 @@ class RunView:
         if model_loop is not None:
             disp, force = (np.asarray(v, dtype=float) for v in model_loop)
             loops += (ForceDisplacement("VS model", disp, force, "model"),)
-        return cls(title=title, time_s=t, table_accel=z, target_accel=target, ground_accel=a_g,
-                   table_disp=x, histories=histories, loops=loops, metrics=dict(metrics or {}),
-                   config=dict(config or {}), status=status)
-
+        return cls(
+            title=title,
+            time_s=t,
+            table_accel=z,
+            target_accel=target,
+            ground_accel=a_g,
+            table_disp=x,
+            histories=histories,
+            loops=loops,
+            metrics=dict(metrics or {}),
+            config=dict(config or {}),
+            status=status,
+        )
 
     @classmethod
-    def from_result(cls, result: Any, *, title: str = "", metrics: Mapping[str, Any] | None = None,
-                    m_vs: float | None = None,
-                    model_loop: tuple[Any, Any] | None = None) -> "RunView":
+    def from_result(
+        cls,
+        result: Any,
+        *,
+        title: str = "",
+        metrics: Mapping[str, Any] | None = None,
+        m_vs: float | None = None,
+        model_loop: tuple[Any, Any] | None = None,
+    ) -> RunView:
         """Build a view from a run result (anything with ``channels``, ``config`` and ``trip``).
 
         Works with :class:`impedance_mil.lab.results.RunResult` (e.g. from
@@ -278,15 +306,25 @@ class RunView:
         loops (see :meth:`from_channels`).
         """
         trip = getattr(result, "trip", None)
-        status = "completed" if trip is None else (
-            f"stopped: limit '{trip.limit}' tripped at t = {trip.time_s:.4f} s")
+        status = (
+            "completed"
+            if trip is None
+            else (f"stopped: limit '{trip.limit}' tripped at t = {trip.time_s:.4f} s")
+        )
         config = dict(getattr(result, "config", {}) or {})
         motion = config.get("motion", "")
         if isinstance(motion, Mapping):  # the lab stores the motion's description as a mapping
             motion = motion.get("name", "")
         name = title or f"{getattr(result, 'mode', 'run')} run: {motion}".strip(": ")
-        return cls.from_channels(result.channels, title=name, metrics=metrics, config=config,
-                                 status=status, m_vs=m_vs, model_loop=model_loop)
+        return cls.from_channels(
+            result.channels,
+            title=name,
+            metrics=metrics,
+            config=config,
+            status=status,
+            m_vs=m_vs,
+            model_loop=model_loop,
+        )
 
 
 def history_figure(view: RunView) -> Figure:
@@ -316,8 +354,11 @@ def spectra_figure(view: RunView, damping: float = 0.05) -> Figure:
     """5 %-damped pseudo-acceleration spectra [g] of table, target and input against frequency."""
     fig, (ax,) = new_figure(height=3.6)
     periods = 1.0 / SPECTRUM_FREQUENCIES_HZ
-    curves = [("input a_g", view.ground_accel, "input"), ("table", view.table_accel, "table"),
-              ("target", view.target_accel, "target")]
+    curves = [
+        ("input a_g", view.ground_accel, "input"),
+        ("table", view.table_accel, "table"),
+        ("target", view.target_accel, "target"),
+    ]
     for label, accel, role in curves:
         if accel is None or (role == "input" and accel is view.target_accel):
             continue
@@ -345,21 +386,38 @@ def loops_figure(loops: Sequence[ForceDisplacement]) -> Figure:
 
 def render_run_html(view: RunView) -> str:
     """The HTML page of one run: status, metrics, histories, spectra, loops, configuration."""
-    sections = [f"<h2>Status</h2><p>{escape(view.status)}; {view.time_s.size} samples, "
-                f"time step {fmt_number(view.time_step)} s.</p>"]
+    sections = [
+        f"<h2>Status</h2><p>{escape(view.status)}; {view.time_s.size} samples, "
+        f"time step {fmt_number(view.time_step)} s.</p>"
+    ]
     if view.metrics:
         sections.append("<h2>Metrics</h2>" + key_value_table(view.metrics, ("metric", "value")))
     if view.time_s.size > 1:
-        sections.append("<h2>Histories</h2>" + figure_png(
-            history_figure(view), "acceleration and other histories",
-            "Table (solid blue), target (dashed red) and input ground motion (black)."))
-        sections.append("<h2>Response spectra</h2>" + figure_png(
-            spectra_figure(view), "5% damped response spectra",
-            "5%-damped pseudo-acceleration spectra of the table, target and input accelerations."))
+        sections.append(
+            "<h2>Histories</h2>"
+            + figure_png(
+                history_figure(view),
+                "acceleration and other histories",
+                "Table (solid blue), target (dashed red) and input ground motion (black).",
+            )
+        )
+        sections.append(
+            "<h2>Response spectra</h2>"
+            + figure_png(
+                spectra_figure(view),
+                "5% damped response spectra",
+                "5%-damped pseudo-acceleration spectra of the table, target and input accelerations.",
+            )
+        )
     if view.loops:
-        sections.append("<h2>Force-displacement</h2>" + figure_png(
-            loops_figure(view.loops), "isolator force-displacement loops",
-            "Isolator force against displacement (report Section 9.3, panel c)."))
+        sections.append(
+            "<h2>Force-displacement</h2>"
+            + figure_png(
+                loops_figure(view.loops),
+                "isolator force-displacement loops",
+                "Isolator force against displacement (report Section 9.3, panel c).",
+            )
+        )
     if view.config:
         sections.append("<h2>Configuration</h2>" + key_value_table(flatten(view.config), ("key", "value")))
     return html_page(view.title, sections, subtitle="impedance-mil run report")

@@ -7,8 +7,8 @@ rename), so a failed write leaves nothing half-written.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import matplotlib
 
@@ -24,8 +24,7 @@ from ..signals import GroundMotion, Spectrum  # noqa: E402
 from ..units import in_s2_to_g  # noqa: E402
 
 
-def plot_spectra(spectra: Sequence[Spectrum], labels: Sequence[str] | None = None,
-                 title: str = "") -> Figure:
+def plot_spectra(spectra: Sequence[Spectrum], labels: Sequence[str] | None = None, title: str = "") -> Figure:
     """Pseudo-acceleration spectra [g] against period [s], log period axis (report Figure 8.1).
 
     Parameters
@@ -62,8 +61,11 @@ def plot_histories(motion: GroundMotion, title: str = "") -> Figure:
     corrected = motion.baseline_corrected()
     t = corrected.time
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(6.4, 6.0), layout="constrained")
-    rows = [(corrected.displacement(), "Displacement [in]"), (corrected.velocity(), "Velocity [in/s]"),
-            (in_s2_to_g(corrected.accel), "Acceleration [g]")]
+    rows = [
+        (corrected.displacement(), "Displacement [in]"),
+        (corrected.velocity(), "Velocity [in/s]"),
+        (in_s2_to_g(corrected.accel), "Acceleration [g]"),
+    ]
     for ax, (values, label) in zip(axes, rows):
         ax.plot(t, values, linewidth=0.8)
         ax.set_ylabel(label)

@@ -10,16 +10,17 @@ section, the toolkit's figure (inline SVG) and numbers, and the verdict
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
 
 from matplotlib.figure import Figure
 
 from .. import __version__
 from ..campaign.claims import AGREE, CLAIMS, DISAGREE, NOT_RUN, Claim, ClaimOutcome, evaluate_claims
-from ..campaign.summary import NOT_RUN as RUN_NOT_RUN, SummaryTable, load_summary
 from ..campaign.store import CampaignStore
+from ..campaign.summary import NOT_RUN as RUN_NOT_RUN
+from ..campaign.summary import SummaryTable, load_summary
 from .html import STYLES, escape, figure_svg, html_page, new_figure, write_html
 
 
@@ -62,8 +63,14 @@ def claim_figure(outcome: ClaimOutcome) -> Figure:
     fig, (ax,) = new_figure(width=6.0, height=3.4)
     for curve in outcome.curves:
         style = dict(STYLES.get(curve.role, STYLES["other"]))
-        ax.plot(curve.x, curve.y, marker="o" if curve.role != "target" else None, markersize=4,
-                label=curve.label, **style)
+        ax.plot(
+            curve.x,
+            curve.y,
+            marker="o" if curve.role != "target" else None,
+            markersize=4,
+            label=curve.label,
+            **style,
+        )
     if outcome.xlog:
         ax.set_xscale("log")
     ax.set_xlabel(outcome.xlabel)
@@ -79,7 +86,7 @@ def _claim_section(outcome: ClaimOutcome) -> str:
     css = outcome.verdict.replace(" ", "-")
     parts = [
         f'<div class="claim" id="{escape(claim.id)}">',
-        f"<h2>{escape(claim.id)} <span class=\"verdict {css}\">{escape(outcome.verdict)}</span></h2>",
+        f'<h2>{escape(claim.id)} <span class="verdict {css}">{escape(outcome.verdict)}</span></h2>',
         f"<p><b>Report, Section {escape(claim.section)}:</b></p><blockquote>{escape(claim.statement)}</blockquote>",
         f"<p><b>Test:</b> {escape(claim.test)} (campaign <code>{escape(claim.campaign)}</code>, "
         f"study <code>{escape(claim.study)}</code>)</p>",
@@ -96,12 +103,15 @@ def _overview(outcomes: Sequence[ClaimOutcome]) -> str:
         f'<tr><td><a href="#{escape(o.claim.id)}">{escape(o.claim.id)}</a></td>'
         f"<td>{escape(o.claim.section)}</td><td>{escape(o.claim.statement)}</td>"
         f'<td><span class="verdict {o.verdict.replace(" ", "-")}">{escape(o.verdict)}</span></td></tr>'
-        for o in outcomes)
+        for o in outcomes
+    )
     counts = {v: sum(o.verdict == v for o in outcomes) for v in (AGREE, DISAGREE, NOT_RUN)}
     summary = ", ".join(f"{n} {v}" for v, n in counts.items())
-    return (f"<h2>Overview</h2><p>{len(outcomes)} claims: {escape(summary)}.</p>"
-            "<table><tr><th>claim</th><th>section</th><th>statement</th><th>verdict</th></tr>"
-            f"{rows}</table>")
+    return (
+        f"<h2>Overview</h2><p>{len(outcomes)} claims: {escape(summary)}.</p>"
+        "<table><tr><th>claim</th><th>section</th><th>statement</th><th>verdict</th></tr>"
+        f"{rows}</table>"
+    )
 
 
 def _inventory(folders: Sequence[Path], tables: Sequence[SummaryTable]) -> str:
@@ -114,16 +124,22 @@ def _inventory(folders: Sequence[Path], tables: Sequence[SummaryTable]) -> str:
         except (OSError, ValueError):
             pass
         statuses = table.column("status")
-        counts = ", ".join(f"{s} {statuses.count(s)}" for s in ("ok", "aborted", "failed", RUN_NOT_RUN)
-                           if statuses.count(s))
-        rows.append(f"<tr><td>{escape(name)}</td><td>{escape(folder)}</td><td class=\"num\">{len(table)}</td>"
-                    f"<td>{escape(counts)}</td></tr>")
-    return ("<h2>Campaigns read</h2><table><tr><th>campaign</th><th>folder</th><th>runs</th>"
-            f"<th>status</th></tr>{''.join(rows)}</table>")
+        counts = ", ".join(
+            f"{s} {statuses.count(s)}" for s in ("ok", "aborted", "failed", RUN_NOT_RUN) if statuses.count(s)
+        )
+        rows.append(
+            f'<tr><td>{escape(name)}</td><td>{escape(folder)}</td><td class="num">{len(table)}</td>'
+            f"<td>{escape(counts)}</td></tr>"
+        )
+    return (
+        "<h2>Campaigns read</h2><table><tr><th>campaign</th><th>folder</th><th>runs</th>"
+        f"<th>status</th></tr>{''.join(rows)}</table>"
+    )
 
 
-def render_reproduction_html(folders: Sequence[str | Path],
-                             claims: Sequence[Claim] = CLAIMS) -> tuple[str, list[ClaimOutcome]]:
+def render_reproduction_html(
+    folders: Sequence[str | Path], claims: Sequence[Claim] = CLAIMS
+) -> tuple[str, list[ClaimOutcome]]:
     """The reproduction page for campaign folders, and the claim outcomes.
 
     Raises
@@ -134,19 +150,23 @@ def render_reproduction_html(folders: Sequence[str | Path],
     paths = [Path(f) for f in folders]
     tables = [load_summary(p) for p in paths]
     outcomes = evaluate_claims(tables, claims)
-    intro = ("<p>Each claim of the MCEER report <i>Impedance-Matching Control Design for Shake-Table "
-             "Testing and Model-in-the-Loop Simulations</i> is quoted with its section, then tested on "
-             "the virtual lab's campaigns. <b>agree</b>: the toolkit's numbers support the statement; "
-             "<b>disagree</b>: they do not; <b>not run</b>: the campaign holding the data was not run "
-             "(or its runs failed). Toolkit curves are solid blue, the report's values dashed red.</p>")
-    sections = [intro, _overview(outcomes)] + [_claim_section(o) for o in outcomes] + [_inventory(paths, tables)]
-    page = html_page("Reproduction of the report's claims", sections,
-                     subtitle=f"impedance-mil {__version__}")
+    intro = (
+        "<p>Each claim of the MCEER report <i>Impedance-Matching Control Design for Shake-Table "
+        "Testing and Model-in-the-Loop Simulations</i> is quoted with its section, then tested on "
+        "the virtual lab's campaigns. <b>agree</b>: the toolkit's numbers support the statement; "
+        "<b>disagree</b>: they do not; <b>not run</b>: the campaign holding the data was not run "
+        "(or its runs failed). Toolkit curves are solid blue, the report's values dashed red.</p>"
+    )
+    sections = (
+        [intro, _overview(outcomes)] + [_claim_section(o) for o in outcomes] + [_inventory(paths, tables)]
+    )
+    page = html_page("Reproduction of the report's claims", sections, subtitle=f"impedance-mil {__version__}")
     return page, outcomes
 
 
-def write_reproduction_report(folders: Sequence[str | Path], out: str | Path,
-                              claims: Sequence[Claim] = CLAIMS) -> ReproductionResult:
+def write_reproduction_report(
+    folders: Sequence[str | Path], out: str | Path, claims: Sequence[Claim] = CLAIMS
+) -> ReproductionResult:
     """Write the reproduction page for campaign folders to ``out`` (atomically).
 
     Parameters

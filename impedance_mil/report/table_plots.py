@@ -21,16 +21,21 @@ from ..plant.tuning import sweep  # noqa: E402
 from .motion_plots import save_figure  # noqa: E402
 
 #: The six transfer functions of Eq 4-15, with axis labels.
-SIX_TFS = (("z", "u", "z/u [in/s^2 / in]"), ("x", "u", "x/u [in/in]"), ("dp", "u", "dP/u [psi/in]"),
-           ("z", "w", "z/w [in/s^2 / lbf]"), ("x", "w", "x/w [in/lbf]"), ("dp", "w", "dP/w [psi/lbf]"))
+SIX_TFS = (
+    ("z", "u", "z/u [in/s^2 / in]"),
+    ("x", "u", "x/u [in/in]"),
+    ("dp", "u", "dP/u [psi/in]"),
+    ("z", "w", "z/w [in/s^2 / lbf]"),
+    ("x", "w", "x/w [in/lbf]"),
+    ("dp", "w", "dP/w [psi/lbf]"),
+)
 #: Default sweep ranges for root loci (internal units).
 LOCUS_RANGE = {"Ke": 45.0, "Kp": 0.004, "loop_time": 2e-3}
 #: Resolution of the saved figures [dots per inch].
 DPI = 110
 
 
-def bode_figure(p: TableParameters, delay: str = "first-order", fmin: float = 0.1,
-                fmax: float = 200.0):
+def bode_figure(p: TableParameters, delay: str = "first-order", fmin: float = 0.1, fmax: float = 200.0):
     """Figure with magnitude and phase of the six TFs (frequencies [Hz])."""
     if not (0 < fmin < fmax):
         raise ConfigError("fmin/fmax", "0 < fmin < fmax [Hz]", (fmin, fmax))
@@ -49,14 +54,18 @@ def bode_figure(p: TableParameters, delay: str = "first-order", fmin: float = 0.
         axes[row + 1, col].set_ylabel("phase [deg]", fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel("frequency [Hz]")
-    fig.suptitle(f"Shake-table transfer functions (Eq 4-15), Ke={p.Ke:g} V/in, Kp={p.Kp:g} V/psi, "
-                 f"loop time {p.loop_time * 1e6:g} us, delay: {delay}", fontsize=10)
+    fig.suptitle(
+        f"Shake-table transfer functions (Eq 4-15), Ke={p.Ke:g} V/in, Kp={p.Kp:g} V/psi, "
+        f"loop time {p.loop_time * 1e6:g} us, delay: {delay}",
+        fontsize=10,
+    )
     fig.tight_layout()
     return fig
 
 
-def save_bode(p: TableParameters, path: Path, delay: str = "first-order", fmin: float = 0.1,
-              fmax: float = 200.0) -> Path:
+def save_bode(
+    p: TableParameters, path: Path, delay: str = "first-order", fmin: float = 0.1, fmax: float = 200.0
+) -> Path:
     """Write :func:`bode_figure` to ``path`` (format from the suffix, PNG without one)."""
     return save_figure(bode_figure(p, delay, fmin, fmax), path, dpi=DPI)
 

@@ -6,7 +6,7 @@ Agg backend (set in :mod:`impedance_mil.report.motion_plots`); write with
 
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from collections.abc import Sequence
 
 import matplotlib.pyplot as plt
 from matplotlib.figure import Figure
@@ -19,8 +19,12 @@ from .motion_plots import save_figure
 __all__ = ["plot_loops", "save_figure"]
 
 
-def plot_loops(responses: Sequence[VSResponse], labels: Sequence[str],
-               axial_loads: Optional[Sequence[float]] = None, title: str = "") -> Figure:
+def plot_loops(
+    responses: Sequence[VSResponse],
+    labels: Sequence[str],
+    axial_loads: Sequence[float] | None = None,
+    title: str = "",
+) -> Figure:
     """Isolator force against displacement, and the basemat acceleration history.
 
     Parameters
@@ -43,8 +47,7 @@ def plot_loops(responses: Sequence[VSResponse], labels: Sequence[str],
     if not responses or len(labels) != len(responses):
         raise ConfigError("labels", f"one label per response ({len(responses)})", len(labels))
     if axial_loads is not None and len(axial_loads) != len(responses):
-        raise ConfigError("axial_loads", f"one axial load per response ({len(responses)})",
-                          len(axial_loads))
+        raise ConfigError("axial_loads", f"one axial load per response ({len(responses)})", len(axial_loads))
     fig, (ax_loop, ax_z) = plt.subplots(1, 2, figsize=(10.0, 4.2), constrained_layout=True)
     for k, (r, label) in enumerate(zip(responses, labels)):
         force = r.force if axial_loads is None else r.force / axial_loads[k]

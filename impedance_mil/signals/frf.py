@@ -12,8 +12,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Callable, Mapping, Sequence
 
 import numpy as np
 import scipy.optimize
@@ -52,15 +52,13 @@ class FRF:
         """Phase of H [deg], unwrapped from the lowest line."""
         return np.degrees(np.unwrap(np.angle(self.response)))
 
-    def band(self, f_min_hz: float, f_max_hz: float) -> "FRF":
+    def band(self, f_min_hz: float, f_max_hz: float) -> FRF:
         """The lines with ``f_min_hz <= f <= f_max_hz`` [Hz]."""
         keep = (self.frequency_hz >= f_min_hz) & (self.frequency_hz <= f_max_hz)
-        return FRF(self.frequency_hz[keep], self.response[keep], self.coherence[keep],
-                   self.n_averages)
+        return FRF(self.frequency_hz[keep], self.response[keep], self.coherence[keep], self.n_averages)
 
 
-def estimate_frf(u, y, n_points: int, sample_rate_hz: float, lines=None,
-                 discard_periods: int = 1) -> FRF:
+def estimate_frf(u, y, n_points: int, sample_rate_hz: float, lines=None, discard_periods: int = 1) -> FRF:
     """H1 FRF estimate and coherence from a periodic test.
 
     Parameters
@@ -97,13 +95,14 @@ def estimate_frf(u, y, n_points: int, sample_rate_hz: float, lines=None,
         raise ConfigError("frf.n_points", f"a divisor of the record length {u.size}", n_points)
     n_avg = n_periods - discard_periods
     if n_avg < 1:
-        raise ConfigError("frf.discard_periods", f"fewer than the {n_periods} periods recorded",
-                          discard_periods)
+        raise ConfigError(
+            "frf.discard_periods", f"fewer than the {n_periods} periods recorded", discard_periods
+        )
     if lines is None:
         lines = np.arange(1, n_points // 2)
     lines = np.asarray(lines, dtype=int)
-    U = np.fft.rfft(u[discard_periods * n_points:].reshape(n_avg, n_points), axis=1)[:, lines]
-    Y = np.fft.rfft(y[discard_periods * n_points:].reshape(n_avg, n_points), axis=1)[:, lines]
+    U = np.fft.rfft(u[discard_periods * n_points :].reshape(n_avg, n_points), axis=1)[:, lines]
+    Y = np.fft.rfft(y[discard_periods * n_points :].reshape(n_avg, n_points), axis=1)[:, lines]
     s_uu = np.mean(np.abs(U) ** 2, axis=0)
     s_yy = np.mean(np.abs(Y) ** 2, axis=0)
     s_yu = np.mean(Y * np.conj(U), axis=0)
@@ -111,8 +110,12 @@ def estimate_frf(u, y, n_points: int, sample_rate_hz: float, lines=None,
         raise ConfigError("frf.lines", "lines excited by the input")
     with np.errstate(invalid="ignore", divide="ignore"):
         coh = np.where(s_yy > 0, np.abs(s_yu) ** 2 / (s_uu * s_yy), 0.0)
-    return FRF(frequency_hz=lines * sample_rate_hz / n_points, response=s_yu / s_uu,
-               coherence=np.clip(coh, 0.0, 1.0), n_averages=int(n_avg))
+    return FRF(
+        frequency_hz=lines * sample_rate_hz / n_points,
+        response=s_yu / s_uu,
+        coherence=np.clip(coh, 0.0, 1.0),
+        n_averages=int(n_avg),
+    )
 
 
 @dataclass(frozen=True)
@@ -148,10 +151,16 @@ def _log_residual(h_model, h_meas, weight):
     return np.concatenate([weight * r.real, weight * im])
 
 
-def fit_frf(frf: FRF, model: Callable[[Mapping[str, float], np.ndarray], np.ndarray],
-            initial: Mapping[str, float], *, free: Sequence[str] | None = None,
-            f_range_hz: tuple[float, float] | None = None, coherence_weighting: bool = True,
-            bounds_factor: float = 10.0) -> FitResult:
+def fit_frf(
+    frf: FRF,
+    model: Callable[[Mapping[str, float], np.ndarray], np.ndarray],
+    initial: Mapping[str, float],
+    *,
+    free: Sequence[str] | None = None,
+    f_range_hz: tuple[float, float] | None = None,
+    coherence_weighting: bool = True,
+    bounds_factor: float = 10.0,
+) -> FitResult:
     """Fit the positive parameters of ``model`` to ``frf`` on log-magnitude and phase.
 
     Parameters
@@ -198,11 +207,17 @@ def fit_frf(frf: FRF, model: Callable[[Mapping[str, float], np.ndarray], np.ndar
         params.update({n: float(np.exp(t)) for n, t in zip(free, theta)})
         return _log_residual(model(params, data.frequency_hz), data.response, weight)
 
-    sol = scipy.optimize.least_squares(residual, x0, bounds=(x0 - span, x0 + span),
-                                       x_scale=1.0, xtol=1e-12, ftol=1e-12)
+    sol = scipy.optimize.least_squares(
+        residual, x0, bounds=(x0 - span, x0 + span), x_scale=1.0, xtol=1e-12, ftol=1e-12
+    )
     fitted = dict(initial)
     fitted.update({n: float(np.exp(t)) for n, t in zip(free, sol.x)})
     r = np.log(model(fitted, data.frequency_hz) / data.response)
-    rms = float(np.sqrt(np.mean(r.real ** 2 + np.angle(np.exp(1j * r.imag)) ** 2)))
-    return FitResult(parameters=fitted, initial=dict(initial), rms_log_error=rms,
-                     success=bool(sol.success), n_lines=int(data.frequency_hz.size))
+    rms = float(np.sqrt(np.mean(r.real**2 + np.angle(np.exp(1j * r.imag)) ** 2)))
+    return FitResult(
+        parameters=fitted,
+        initial=dict(initial),
+        rms_log_error=rms,
+        success=bool(sol.success),
+        n_lines=int(data.frequency_hz.size),
+    )

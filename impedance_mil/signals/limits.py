@@ -55,11 +55,11 @@ from .motion import GroundMotion
 
 #: Report values (Sections 3.4, 4.3.2, Table 4.1) used by :meth:`TableLimits.report_default`.
 REPORT_TABLE = {
-    "piston_area": 2.1,            # in^2
-    "mid_stroke": 3.2,             # in
-    "table_mass": 1600.0 / G0,     # lbf*s^2/in (1600 lb; printed as 4.14)
-    "supply_pressure": 3000.0,     # psi
-    "rated_flow": 57.75,           # in^3/s (15 gpm)
+    "piston_area": 2.1,  # in^2
+    "mid_stroke": 3.2,  # in
+    "table_mass": 1600.0 / G0,  # lbf*s^2/in (1600 lb; printed as 4.14)
+    "supply_pressure": 3000.0,  # psi
+    "rated_flow": 57.75,  # in^3/s (15 gpm)
     "rated_pressure_drop": 1000.0,  # psi
 }
 
@@ -68,8 +68,9 @@ def _positive(key: str, value: float, *, allow_zero: bool = False) -> float:
     number = float(value)
     ok = math.isfinite(number) and (number >= 0 if allow_zero else number > 0)
     if not ok:
-        raise ConfigError(key, "a non-negative finite number" if allow_zero else "a positive finite number",
-                          value)
+        raise ConfigError(
+            key, "a non-negative finite number" if allow_zero else "a positive finite number", value
+        )
     return number
 
 
@@ -123,10 +124,19 @@ class TableLimits:
         return self.piston_area is not None
 
     @classmethod
-    def from_numbers(cls, *, piston_area: float, mid_stroke: float, table_mass: float,
-                     supply_pressure: float, rated_flow: float, rated_pressure_drop: float,
-                     return_pressure: float = 0.0, specimen_weight: float = 0.0,
-                     force_limit: float | None = None) -> TableLimits:
+    def from_numbers(
+        cls,
+        *,
+        piston_area: float,
+        mid_stroke: float,
+        table_mass: float,
+        supply_pressure: float,
+        rated_flow: float,
+        rated_pressure_drop: float,
+        return_pressure: float = 0.0,
+        specimen_weight: float = 0.0,
+        force_limit: float | None = None,
+    ) -> TableLimits:
         """Limits from the table's specification numbers (internal units).
 
         Parameters
@@ -150,13 +160,15 @@ class TableLimits:
         """
         area = _positive("piston_area", piston_area)
         drop = _positive("supply_pressure", supply_pressure) - _positive(
-            "return_pressure", return_pressure, allow_zero=True)
+            "return_pressure", return_pressure, allow_zero=True
+        )
         if drop <= 0:
             raise ConfigError("return_pressure", "less than the supply pressure", return_pressure)
         q_rated = _positive("rated_flow", rated_flow)
         dp_rated = _positive("rated_pressure_drop", rated_pressure_drop)
         mass = _positive("table_mass", table_mass) + weight_to_mass(
-            _positive("specimen_weight", specimen_weight, allow_zero=True))
+            _positive("specimen_weight", specimen_weight, allow_zero=True)
+        )
         force = area * drop if force_limit is None else _positive("force_limit", force_limit)
         return cls(
             stroke_in=_positive("mid_stroke", mid_stroke),
@@ -170,22 +182,26 @@ class TableLimits:
         )
 
     @classmethod
-    def from_table(cls, table, specimen_weight: float = 0.0,
-                   force_limit: float | None = None) -> TableLimits:
+    def from_table(cls, table, specimen_weight: float = 0.0, force_limit: float | None = None) -> TableLimits:
         """Limits from a table-parameter object (e.g. :class:`impedance_mil.plant.TableParameters`).
 
         Uses its ``piston_area``, ``mid_stroke``, ``mass``, ``supply_pressure``,
         ``return_pressure`` (0 if absent), ``rated_flow`` and ``rated_pressure_drop``.
         """
         return cls.from_numbers(
-            piston_area=table.piston_area, mid_stroke=table.mid_stroke, table_mass=table.mass,
-            supply_pressure=table.supply_pressure, return_pressure=getattr(table, "return_pressure", 0.0),
-            rated_flow=table.rated_flow, rated_pressure_drop=table.rated_pressure_drop,
-            specimen_weight=specimen_weight, force_limit=force_limit)
+            piston_area=table.piston_area,
+            mid_stroke=table.mid_stroke,
+            table_mass=table.mass,
+            supply_pressure=table.supply_pressure,
+            return_pressure=getattr(table, "return_pressure", 0.0),
+            rated_flow=table.rated_flow,
+            rated_pressure_drop=table.rated_pressure_drop,
+            specimen_weight=specimen_weight,
+            force_limit=force_limit,
+        )
 
     @classmethod
-    def report_default(cls, specimen_weight: float = 0.0,
-                       force_limit: float | None = None) -> TableLimits:
+    def report_default(cls, specimen_weight: float = 0.0, force_limit: float | None = None) -> TableLimits:
         """The report's table (Sections 3.4, 4.3.2, Table 4.1) with a test article of the given weight [lbf]."""
         return cls.from_numbers(**REPORT_TABLE, specimen_weight=specimen_weight, force_limit=force_limit)
 
@@ -283,13 +299,17 @@ def required_rated_flow(velocity: np.ndarray, force: np.ndarray, limits: TableLi
     drop = limits.pressure_drop - np.sign(velocity) * load_pressure
     flow = limits.piston_area * np.abs(velocity)
     with np.errstate(divide="ignore", invalid="ignore"):
-        q_eq = np.where(drop > 0, flow * np.sqrt(limits.rated_pressure_drop / np.where(drop > 0, drop, 1.0)),
-                        np.where(flow > 0, np.inf, 0.0))
+        q_eq = np.where(
+            drop > 0,
+            flow * np.sqrt(limits.rated_pressure_drop / np.where(drop > 0, drop, 1.0)),
+            np.where(flow > 0, np.inf, 0.0),
+        )
     return q_eq
 
 
-def check_motion(motion: GroundMotion, limits: TableLimits, baseline_order: int = 3,
-                 baseline_correct: bool = True) -> MotionCheck:
+def check_motion(
+    motion: GroundMotion, limits: TableLimits, baseline_order: int = 3, baseline_correct: bool = True
+) -> MotionCheck:
     """Check a ground motion against the table's stroke, velocity, force and flow limits.
 
     By default the motion is baseline-corrected first

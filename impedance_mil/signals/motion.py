@@ -174,8 +174,9 @@ class GroundMotion:
         if self.pga == 0.0:
             raise ConfigError("pga", "a motion with non-zero acceleration to scale", "all-zero record")
         factor = target * G0 / self.pga
-        return self._derived(self.time_step, self.accel * factor,
-                             f"scaled to PGA {target:.6g} g (x{factor:.6g})")
+        return self._derived(
+            self.time_step, self.accel * factor, f"scaled to PGA {target:.6g} g (x{factor:.6g})"
+        )
 
     def time_scaled(self, factor: float) -> GroundMotion:
         """Compress time by ``factor``: t' = t / factor, the same acceleration samples.
@@ -191,8 +192,9 @@ class GroundMotion:
             Time-compression factor (dimensionless, positive).
         """
         number = _positive("time scale", factor)
-        return self._derived(self.time_step / number, self.accel,
-                             f"time compressed by {number:.6g} (t' = t/{number:.6g})")
+        return self._derived(
+            self.time_step / number, self.accel, f"time compressed by {number:.6g} (t' = t/{number:.6g})"
+        )
 
     def resampled(self, time_step: float) -> GroundMotion:
         """Anti-aliased resampling to a new sample interval [s].
@@ -213,18 +215,19 @@ class GroundMotion:
         new_dt = _positive("time_step", time_step)
         ratio = self.time_step / new_dt
         frac = Fraction(ratio).limit_denominator(MAX_RESAMPLE_FACTOR)
-        if (frac.numerator > MAX_RESAMPLE_FACTOR
-                or abs(float(frac) - ratio) > RESAMPLE_RATIO_RTOL * ratio):
+        if frac.numerator > MAX_RESAMPLE_FACTOR or abs(float(frac) - ratio) > RESAMPLE_RATIO_RTOL * ratio:
             raise ConfigError(
                 "time_step",
                 f"a ratio old/new = {ratio:.9g} that is a fraction p/q with p, q <= {MAX_RESAMPLE_FACTOR}",
-                time_step)
+                time_step,
+            )
         up, down = frac.numerator, frac.denominator
         if up == down:
             return self._derived(self.time_step, self.accel, "resampled (unchanged)")
         out = resample_poly(self.accel, up, down)
-        return self._derived(self.time_step * down / up, out,
-                             f"resampled to dt = {new_dt:.6g} s ({up}/{down}, anti-aliased)")
+        return self._derived(
+            self.time_step * down / up, out, f"resampled to dt = {new_dt:.6g} s ({up}/{down}, anti-aliased)"
+        )
 
     def baseline_corrected(self, order: int = 3) -> GroundMotion:
         """Remove drift so the motion ends at rest where it started.
@@ -249,7 +252,7 @@ class GroundMotion:
             raise ConfigError("order", "an integer from 1 to 6", order)
         dt = self.time_step
         tau = np.linspace(0.0, 1.0, self.npts)
-        basis = np.stack([tau ** j for j in range(order + 1)])  # (m, n) accelerations
+        basis = np.stack([tau**j for j in range(order + 1)])  # (m, n) accelerations
         vb, db = zip(*(integrate_piecewise_linear(b, dt) for b in basis))
         vb, db = np.array(vb), np.array(db)
         v0, d0 = integrate_piecewise_linear(self.accel, dt)
@@ -257,7 +260,7 @@ class GroundMotion:
         # Scale the displacement basis to keep the KKT system well conditioned.
         scale = np.max(np.abs(db), axis=1)
         dbs = db / scale[:, None]
-        constraints = np.stack([vb[:, -1] / scale, dbs[:, -1]])          # (2, m)
+        constraints = np.stack([vb[:, -1] / scale, dbs[:, -1]])  # (2, m)
         rhs_c = -np.array([v0[-1], d0[-1]])
         kkt = np.zeros((m + 2, m + 2))
         kkt[:m, :m] = dbs @ dbs.T
@@ -274,5 +277,8 @@ class GroundMotion:
         last = self.npts - 1 if end is None else int(round(float(end) / self.time_step))
         if not 0 <= first < last <= self.npts - 1:
             raise ConfigError("trim", f"0 <= start < end <= {self.duration:.6g} s", (start, end))
-        return self._derived(self.time_step, self.accel[first:last + 1],
-                             f"trimmed to [{first * self.time_step:.6g}, {last * self.time_step:.6g}] s")
+        return self._derived(
+            self.time_step,
+            self.accel[first : last + 1],
+            f"trimmed to [{first * self.time_step:.6g}, {last * self.time_step:.6g}] s",
+        )

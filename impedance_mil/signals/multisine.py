@@ -31,7 +31,7 @@ REPORT_PERIOD_S = 8192 / 2000.0
 def crest_factor(x) -> float:
     """Crest factor ``max|x| / rms(x)`` (dimensionless) of a signal."""
     x = np.asarray(x, dtype=float)
-    rms = np.sqrt(np.mean(x ** 2))
+    rms = np.sqrt(np.mean(x**2))
     if rms == 0:
         raise ConfigError("signal", "a signal that is not identically zero")
     return float(np.max(np.abs(x)) / rms)
@@ -99,12 +99,16 @@ def _lines(f_min_hz, f_max_hz, n_lines, n_points, sample_rate_hz) -> np.ndarray:
     k_min = max(1, int(round(f_min_hz / df)))
     k_max = min(n_points // 2 - 1, int(round(f_max_hz / df)))
     if k_max < k_min:
-        raise ConfigError("multisine.f_max_hz", f"a band of at least one line above {df:.4g} Hz",
-                          (f_min_hz, f_max_hz))
+        raise ConfigError(
+            "multisine.f_max_hz", f"a band of at least one line above {df:.4g} Hz", (f_min_hz, f_max_hz)
+        )
     if n_lines > k_max - k_min + 1:
-        raise ConfigError("multisine.n_lines",
-                          f"at most {k_max - k_min + 1} lines between {f_min_hz} and {f_max_hz} Hz "
-                          f"at {n_points} points per period", n_lines)
+        raise ConfigError(
+            "multisine.n_lines",
+            f"at most {k_max - k_min + 1} lines between {f_min_hz} and {f_max_hz} Hz "
+            f"at {n_points} points per period",
+            n_lines,
+        )
     return np.unique(np.round(np.linspace(k_min, k_max, n_lines)).astype(int))
 
 
@@ -131,10 +135,19 @@ def _min_crest_phases(lines, phases, n_points, iterations) -> np.ndarray:
     return best
 
 
-def design_multisine(*, peak: float = 0.1, f_min_hz: float = 0.25, f_max_hz: float = 125.0,
-                     n_lines: int = 512, n_points: int = 8192, sample_rate_hz: float = 2000.0,
-                     n_periods: int = 3, phases: str = "min-crest", iterations: int = 100,
-                     seed: int = 0) -> Multisine:
+def design_multisine(
+    *,
+    peak: float = 0.1,
+    f_min_hz: float = 0.25,
+    f_max_hz: float = 125.0,
+    n_lines: int = 512,
+    n_points: int = 8192,
+    sample_rate_hz: float = 2000.0,
+    n_periods: int = 3,
+    phases: str = "min-crest",
+    iterations: int = 100,
+    seed: int = 0,
+) -> Multisine:
     """Equal-amplitude multisine of report Section 4.5.2.
 
     Parameters
@@ -176,8 +189,9 @@ def design_multisine(*, peak: float = 0.1, f_min_hz: float = 0.25, f_max_hz: flo
     if n_periods < 2:
         raise ConfigError("multisine.n_periods", "at least 2 (the first is transient)", n_periods)
     if n_points < 4 or sample_rate_hz <= 0:
-        raise ConfigError("multisine.n_points", "at least 4 points and a positive rate",
-                          (n_points, sample_rate_hz))
+        raise ConfigError(
+            "multisine.n_points", "at least 4 points and a positive rate", (n_points, sample_rate_hz)
+        )
     lines = _lines(f_min_hz, f_max_hz, n_lines, n_points, sample_rate_hz)
     k = np.arange(1, lines.size + 1)
     if phases == "random":
@@ -188,8 +202,14 @@ def design_multisine(*, peak: float = 0.1, f_min_hz: float = 0.25, f_max_hz: flo
             phi = _min_crest_phases(lines, phi, n_points, iterations)
     x = _synthesize(lines, phi, n_points)
     x *= peak / np.max(np.abs(x))
-    return Multisine(period=x, sample_rate_hz=float(sample_rate_hz), lines=lines, phases=phi,
-                     crest_factor=crest_factor(x), n_periods=int(n_periods))
+    return Multisine(
+        period=x,
+        sample_rate_hz=float(sample_rate_hz),
+        lines=lines,
+        phases=phi,
+        crest_factor=crest_factor(x),
+        n_periods=int(n_periods),
+    )
 
 
 def report_multisine(loop_time: float, peak: float = 0.1) -> Multisine:
@@ -213,5 +233,6 @@ def report_multisine(loop_time: float, peak: float = 0.1) -> Multisine:
     >>> ms.n_points, ms.sample_rate_hz, ms.n_points / ms.sample_rate_hz
     (4096, 1000.0, 4.096)
     """
-    return design_multisine(peak=peak, sample_rate_hz=1.0 / loop_time,
-                            n_points=int(round(REPORT_PERIOD_S / loop_time)))
+    return design_multisine(
+        peak=peak, sample_rate_hz=1.0 / loop_time, n_points=int(round(REPORT_PERIOD_S / loop_time))
+    )

@@ -107,9 +107,13 @@ def _numbers(path: Path, lines: list[str], first_line: int) -> np.ndarray:
             try:
                 values.append(_parse_float(token))
             except ValueError:
-                raise DataFileError(path, f"line {first_line + offset}: non-numeric token {token!r}") from None
+                raise DataFileError(
+                    path, f"line {first_line + offset}: non-numeric token {token!r}"
+                ) from None
             if not np.isfinite(values[-1]):
-                raise DataFileError(path, f"line {first_line + offset}: {token} sample (samples must be finite)")
+                raise DataFileError(
+                    path, f"line {first_line + offset}: {token} sample (samples must be finite)"
+                )
     return np.array(values, dtype=float)
 
 
@@ -227,17 +231,22 @@ def _check_uniform(path: Path, time: np.ndarray, first_line: int) -> float:
     steps = np.diff(time)
     if np.any(steps <= 0):
         k = int(np.flatnonzero(steps <= 0)[0])
-        raise DataFileError(path, f"time not strictly increasing at data row {k + 2} "
-                            f"(line >= {first_line + k + 1}): {time[k + 1]:.9g} s after {time[k]:.9g} s")
+        raise DataFileError(
+            path,
+            f"time not strictly increasing at data row {k + 2} "
+            f"(line >= {first_line + k + 1}): {time[k + 1]:.9g} s after {time[k]:.9g} s",
+        )
     n = time.size
     dt = (time[-1] - time[0]) / (n - 1)
     deviation = np.abs(time - (time[0] + dt * np.arange(n)))
     worst = int(np.argmax(deviation))
     if deviation[worst] > UNIFORM_TIME_RTOL * dt:
         raise DataFileError(
-            path, f"time not uniformly sampled: sample {worst + 1} at {time[worst]:.9g} s is "
+            path,
+            f"time not uniformly sampled: sample {worst + 1} at {time[worst]:.9g} s is "
             f"{deviation[worst]:.3g} s off the uniform grid of dt = {dt:.9g} s "
-            f"(tolerance {UNIFORM_TIME_RTOL:g} dt); resample the record first")
+            f"(tolerance {UNIFORM_TIME_RTOL:g} dt); resample the record first",
+        )
     return dt
 
 
@@ -332,8 +341,7 @@ def builtin_motion(name: str = "elcentro") -> GroundMotion:
         raise ConfigError("motion", "one of the built-in records " + ", ".join(BUILTIN_MOTIONS), name)
     record = BUILTIN_MOTIONS[key]
     motion = read_motion(MOTIONS_DIR / record.filename, units=record.units)
-    return GroundMotion(motion.time_step, motion.accel, record.name,
-                        f"built-in '{key}': {motion.source}")
+    return GroundMotion(motion.time_step, motion.accel, record.name, f"built-in '{key}': {motion.source}")
 
 
 def write_columns(motion: GroundMotion, path: str | Path, units: str = "g") -> Path:

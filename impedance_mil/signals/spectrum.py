@@ -96,7 +96,7 @@ def _expm_taylor(m):  # pragma: no cover - compiled kernel
     while norm > 0.5:
         norm *= 0.5
         squarings += 1
-    scaled = m / (2.0 ** squarings)
+    scaled = m / (2.0**squarings)
     result = np.eye(n)
     term = np.eye(n)
     for k in range(1, 41):
@@ -185,10 +185,18 @@ def _response_history(accel, a_coef, b_coef):  # pragma: no cover - compiled ker
     n = accel.shape[0]
     out = np.zeros((n, 2))
     for k in range(n - 1):
-        out[k + 1, 0] = (a_coef[0, 0] * out[k, 0] + a_coef[0, 1] * out[k, 1]
-                         + b_coef[0, 0] * accel[k] + b_coef[0, 1] * accel[k + 1])
-        out[k + 1, 1] = (a_coef[1, 0] * out[k, 0] + a_coef[1, 1] * out[k, 1]
-                         + b_coef[1, 0] * accel[k] + b_coef[1, 1] * accel[k + 1])
+        out[k + 1, 0] = (
+            a_coef[0, 0] * out[k, 0]
+            + a_coef[0, 1] * out[k, 1]
+            + b_coef[0, 0] * accel[k]
+            + b_coef[0, 1] * accel[k + 1]
+        )
+        out[k + 1, 1] = (
+            a_coef[1, 0] * out[k, 0]
+            + a_coef[1, 1] * out[k, 1]
+            + b_coef[1, 0] * accel[k]
+            + b_coef[1, 1] * accel[k + 1]
+        )
     return out
 
 
@@ -205,7 +213,9 @@ def _checked_inputs(accel, time_step, damping) -> tuple[np.ndarray, float, float
     return a, dt, zeta
 
 
-def oscillator_response(accel, time_step: float, period: float, damping: float = 0.05) -> tuple[np.ndarray, np.ndarray]:
+def oscillator_response(
+    accel, time_step: float, period: float, damping: float = 0.05
+) -> tuple[np.ndarray, np.ndarray]:
     """Exact relative displacement and velocity history of one oscillator.
 
     Parameters

@@ -5,14 +5,23 @@ interface force ``w`` [lbf] it applies on the table (report Eq 4-7b:
 ``m_st * z = A_p * dP + w``; a rigid mass ``m`` gives ``w = -m z``).
 """
 
-from .statespace import SpecimenStateSpace, rk4_step
-from .structural import LinearMDOF, ModalProperties, RigidMass, Specimen, modal_damping_matrix
 from . import sensors
 from .factory import specimen_from_config, specimen_from_dict
+from .statespace import SpecimenStateSpace, rk4_step
+from .structural import LinearMDOF, ModalProperties, RigidMass, Specimen, modal_damping_matrix
 from .vessel import FluidVessel, Oscillator
 
 __all__ = [
-    "FluidVessel", "LinearMDOF", "ModalProperties", "Oscillator", "RigidMass", "Specimen",
-    "SpecimenStateSpace", "modal_damping_matrix", "rk4_step", "sensors",
-    "specimen_from_config", "specimen_from_dict",
+    "FluidVessel",
+    "LinearMDOF",
+    "ModalProperties",
+    "Oscillator",
+    "RigidMass",
+    "Specimen",
+    "SpecimenStateSpace",
+    "modal_damping_matrix",
+    "rk4_step",
+    "sensors",
+    "specimen_from_config",
+    "specimen_from_dict",
 ]

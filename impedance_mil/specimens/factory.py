@@ -21,14 +21,15 @@ bare number meaning the report's unit::
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
 from ..config import Field, parse_fields, quantity
 from ..errors import ConfigError
 from .structural import LinearMDOF, RigidMass, Specimen
-from .vessel import FluidVessel, STEEL_MODULUS, WATER_UNIT_WEIGHT
+from .vessel import STEEL_MODULUS, WATER_UNIT_WEIGHT, FluidVessel
 
 #: Configuration keys of the vessel (internal units) and the FluidVessel argument each sets.
 VESSEL_FIELDS: dict[str, Field] = {
@@ -37,22 +38,30 @@ VESSEL_FIELDS: dict[str, Field] = {
     "wall_thickness": Field("inch", default=3.0 / 16.0, help="shell thickness"),
     "height": Field("inch", default=48.0, help="shell height"),
     "dry_weight": Field("force_pound", default=1200.0, help="empty vessel (Section 8.2)"),
-    "water_unit_weight": Field("force_pound / inch**3", default=WATER_UNIT_WEIGHT,
-                               help="unit weight of the liquid"),
+    "water_unit_weight": Field(
+        "force_pound / inch**3", default=WATER_UNIT_WEIGHT, help="unit weight of the liquid"
+    ),
     "n_convective_modes": Field("dimensionless", default=3.0, help="sloshing modes kept"),
     "convective_damping": Field("dimensionless", "fraction", default=0.005, help="sloshing damping"),
     "impulsive_damping": Field("dimensionless", "fraction", default=0.02, help="impulsive damping"),
-    "flexible_impulsive_fraction": Field("dimensionless", "nonnegative", default=1.0,
-                                         help="share of m_i on the flexible-wall mode"),
+    "flexible_impulsive_fraction": Field(
+        "dimensionless", "nonnegative", default=1.0, help="share of m_i on the flexible-wall mode"
+    ),
     "steel_modulus": Field("psi", default=STEEL_MODULUS, help="Young's modulus of the shell"),
-    "impulsive_frequency": Field("hertz", "nonnegative", default=0.0,
-                                 help="flexible-wall mode frequency; 0 = EN 1998-4 estimate"),
+    "impulsive_frequency": Field(
+        "hertz", "nonnegative", default=0.0, help="flexible-wall mode frequency; 0 = EN 1998-4 estimate"
+    ),
 }
 
-_VESSEL_ARGS = {"water_depth": "water_depth_in", "outer_diameter": "outer_diameter_in",
-                "wall_thickness": "wall_thickness_in", "height": "height_in",
-                "dry_weight": "dry_weight_lbf", "steel_modulus": "steel_modulus_psi",
-                "impulsive_frequency": "impulsive_frequency_hz"}
+_VESSEL_ARGS = {
+    "water_depth": "water_depth_in",
+    "outer_diameter": "outer_diameter_in",
+    "wall_thickness": "wall_thickness_in",
+    "height": "height_in",
+    "dry_weight": "dry_weight_lbf",
+    "steel_modulus": "steel_modulus_psi",
+    "impulsive_frequency": "impulsive_frequency_hz",
+}
 
 _RIGID_FIELDS = {"weight": Field("force_pound", help="weight of the rigid specimen")}
 
@@ -119,12 +128,12 @@ def specimen_from_dict(data: Mapping[str, Any]) -> Specimen:
         if kind == "RigidMass":
             return RigidMass(float(data["weight_lbf"]))
         if kind == "LinearMDOF":
-            return LinearMDOF(data["mass"], data["stiffness"], data["damping"],
-                              data["influence"], float(data["base_mass"]))
+            return LinearMDOF(
+                data["mass"], data["stiffness"], data["damping"], data["influence"], float(data["base_mass"])
+            )
         if kind == "FluidVessel":
             names = FluidVessel.__dataclass_fields__
             return FluidVessel(**{k: v for k, v in data.items() if k in names})
     except (KeyError, TypeError) as exc:
         raise ConfigError("specimen", f"a complete {kind} dictionary", str(exc)) from None
     raise ConfigError("specimen.type", "RigidMass, LinearMDOF or FluidVessel", kind)
-

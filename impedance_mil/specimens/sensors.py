@@ -31,8 +31,8 @@ The compiled loop uses :func:`measure_kernel` with the plain arrays of a
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, replace
-from typing import Mapping
 
 import numba
 import numpy as np
@@ -49,8 +49,13 @@ ADC_RANGE_V = 10.0
 #: passed to :func:`measure_kernel`: table acceleration z [in/s**2], table
 #: displacement x_st [in], differential pressure dP [psi], actuator force
 #: [lbf] and interface force w [lbf].
-QUANTITIES = ("table_acceleration", "table_displacement", "differential_pressure",
-              "actuator_force", "interface_force")
+QUANTITIES = (
+    "table_acceleration",
+    "table_displacement",
+    "differential_pressure",
+    "actuator_force",
+    "interface_force",
+)
 
 #: Reaction load cells in the order of Section 3.5 and their signs in the
 #: RMC sum w := -(AI5 + AI6 + AI7 - AI8) * 200 (Figure 7.9).
@@ -168,11 +173,16 @@ class SensorSuite:
         object.__setattr__(self, "sensors", sensors)
         lows, highs = zip(*(s.volts_range for s in sensors))
         arrays = {
-            "scale": [s.scale for s in sensors], "offset": [s.offset for s in sensors],
-            "gain": [s.gain for s in sensors], "noise_rms": [s.noise_rms_v for s in sensors],
-            "lsb": [s.lsb_v for s in sensors], "v_low": lows, "v_high": highs,
-            "load_cell_weights": [np.sign(s.gain) if s.quantity == "interface_force" else 0.0
-                                  for s in sensors],
+            "scale": [s.scale for s in sensors],
+            "offset": [s.offset for s in sensors],
+            "gain": [s.gain for s in sensors],
+            "noise_rms": [s.noise_rms_v for s in sensors],
+            "lsb": [s.lsb_v for s in sensors],
+            "v_low": lows,
+            "v_high": highs,
+            "load_cell_weights": [
+                np.sign(s.gain) if s.quantity == "interface_force" else 0.0 for s in sensors
+            ],
         }
         for key, vals in arrays.items():
             arr = np.ascontiguousarray(vals, dtype=np.float64)
@@ -184,7 +194,7 @@ class SensorSuite:
 
     # -------------------------------------------------------------- builders
     @classmethod
-    def report_default(cls, noise_rms_v: float | Mapping[str, float] = 0.0) -> "SensorSuite":
+    def report_default(cls, noise_rms_v: float | Mapping[str, float] = 0.0) -> SensorSuite:
         """The nine channels of Table 7.1, in the order of :data:`REPORT_CHANNELS`.
 
         Parameters
@@ -195,13 +205,14 @@ class SensorSuite:
         suite = cls(REPORT_CHANNELS)
         return suite.with_noise(noise_rms_v)
 
-    def with_noise(self, noise_rms_v: float | Mapping[str, float]) -> "SensorSuite":
+    def with_noise(self, noise_rms_v: float | Mapping[str, float]) -> SensorSuite:
         """A copy with noise [V rms] set for all channels or for the named ones."""
         if isinstance(noise_rms_v, Mapping):
             unknown = set(noise_rms_v) - set(self.names)
             if unknown:
-                raise ConfigError("noise_rms_v", f"channel names among {', '.join(self.names)}",
-                                  sorted(unknown))
+                raise ConfigError(
+                    "noise_rms_v", f"channel names among {', '.join(self.names)}", sorted(unknown)
+                )
             levels = {n: noise_rms_v.get(n, s.noise_rms_v) for n, s in zip(self.names, self.sensors)}
         else:
             levels = dict.fromkeys(self.names, noise_rms_v)
@@ -226,8 +237,14 @@ class SensorSuite:
             raise ConfigError("sensor", f"one of {', '.join(self.names)}", name) from None
 
     # ----------------------------------------------------------- measuring
-    def channel_values(self, table_acceleration=0.0, table_displacement=0.0,
-                       differential_pressure=0.0, actuator_force=0.0, interface_force=0.0):
+    def channel_values(
+        self,
+        table_acceleration=0.0,
+        table_displacement=0.0,
+        differential_pressure=0.0,
+        actuator_force=0.0,
+        interface_force=0.0,
+    ):
         """True physical value at every channel, shape ``(..., n_channels)``.
 
         Parameters
@@ -243,10 +260,21 @@ class SensorSuite:
         interface_force : float or array_like
             Force w that the specimen applies on the table [lbf].
         """
-        q = np.stack(np.broadcast_arrays(
-            *(np.asarray(v, dtype=float) for v in (table_acceleration, table_displacement,
-                                                  differential_pressure, actuator_force,
-                                                  interface_force))), axis=-1)
+        q = np.stack(
+            np.broadcast_arrays(
+                *(
+                    np.asarray(v, dtype=float)
+                    for v in (
+                        table_acceleration,
+                        table_displacement,
+                        differential_pressure,
+                        actuator_force,
+                        interface_force,
+                    )
+                )
+            ),
+            axis=-1,
+        )
         return q[..., self.quantity_index] * self.gain
 
     def draw_noise(self, rng: np.random.Generator, n_samples: int | None = None) -> np.ndarray:
@@ -268,8 +296,9 @@ class SensorSuite:
         """
         values = np.asarray(values, dtype=float)
         if values.shape[-1:] != (self.n_channels,):
-            raise ConfigError("values", f"an array whose last axis has {self.n_channels} channels",
-                              values.shape)
+            raise ConfigError(
+                "values", f"an array whose last axis has {self.n_channels} channels", values.shape
+            )
         volts = (values - self.offset) / self.scale
         if np.any(self.noise_rms > 0):
             if rng is None:
@@ -303,8 +332,9 @@ REPORT_CHANNELS: tuple[Sensor, ...] = (
 
 
 @numba.njit(cache=True, inline="always")
-def measure_kernel(quantities, draws, quantity_index, gain, scale, offset, noise_rms, lsb,
-                   v_low, v_high, out):
+def measure_kernel(
+    quantities, draws, quantity_index, gain, scale, offset, noise_rms, lsb, v_low, v_high, out
+):
     """Compiled measurement of one sample of every channel (same maths as :meth:`SensorSuite.measure`).
 
     Parameters

@@ -69,10 +69,17 @@ class SpecimenStateSpace:
         A = np.asarray(self.A, dtype=float)
         A = np.zeros((0, 0)) if A.size == 0 else np.ascontiguousarray(np.atleast_2d(A))
         if A.shape != (n, n) or C.size != n:
-            raise ConfigError("state_space", f"A ({n}x{n}), B ({n}) and C ({n}) of matching sizes",
-                              f"A {A.shape}, B {B.shape}, C {C.shape}")
-        if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B)) and np.all(np.isfinite(C))
-                and np.isfinite(self.D)):
+            raise ConfigError(
+                "state_space",
+                f"A ({n}x{n}), B ({n}) and C ({n}) of matching sizes",
+                f"A {A.shape}, B {B.shape}, C {C.shape}",
+            )
+        if not (
+            np.all(np.isfinite(A))
+            and np.all(np.isfinite(B))
+            and np.all(np.isfinite(C))
+            and np.isfinite(self.D)
+        ):
             raise ConfigError("state_space", "finite matrices")
         for arr in (A, B, C):
             arr.setflags(write=False)

@@ -224,15 +224,17 @@ class LinearMDOF(Specimen):
 
     # ------------------------------------------------------------ builders
     @classmethod
-    def with_modal_damping(cls, mass, stiffness, damping_ratios, influence=None,
-                           base_mass: float = 0.0) -> "LinearMDOF":
+    def with_modal_damping(
+        cls, mass, stiffness, damping_ratios, influence=None, base_mass: float = 0.0
+    ) -> LinearMDOF:
         """Build from modal damping ratios (see :func:`modal_damping_matrix`)."""
         C = modal_damping_matrix(mass, stiffness, damping_ratios)
         return cls(mass, stiffness, C, influence, base_mass)
 
     @classmethod
-    def shear_building(cls, story_weights_lbf, story_stiffness, damping_ratios,
-                       base_weight_lbf: float = 0.0) -> "LinearMDOF":
+    def shear_building(
+        cls, story_weights_lbf, story_stiffness, damping_ratios, base_weight_lbf: float = 0.0
+    ) -> LinearMDOF:
         """A shear building on the table, floors numbered from the bottom.
 
         Parameters
@@ -252,12 +254,12 @@ class LinearMDOF(Specimen):
         if w.size == 0 or np.any(~(w > 0)):
             raise ConfigError("story_weights_lbf", "positive weights [lbf]", story_weights_lbf)
         if k.size != w.size or np.any(~(k > 0)):
-            raise ConfigError("story_stiffness", f"{w.size} positive stiffnesses [lbf/in]",
-                              story_stiffness)
+            raise ConfigError("story_stiffness", f"{w.size} positive stiffnesses [lbf/in]", story_stiffness)
         k_above = np.append(k[1:], 0.0)
         K = np.diag(k + k_above) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
-        return cls.with_modal_damping(weight_to_mass(w), K, damping_ratios,
-                                      base_mass=weight_to_mass(base_weight_lbf))
+        return cls.with_modal_damping(
+            weight_to_mass(w), K, damping_ratios, base_mass=weight_to_mass(base_weight_lbf)
+        )
 
     # ---------------------------------------------------------- properties
     @property
@@ -288,6 +290,11 @@ class LinearMDOF(Specimen):
         return SpecimenStateSpace(A, B, C, -self.base_mass)
 
     def to_dict(self) -> dict:
-        return {"type": "LinearMDOF", "mass": self.mass.tolist(),
-                "stiffness": self.stiffness.tolist(), "damping": self.damping.tolist(),
-                "influence": self.influence.tolist(), "base_mass": self.base_mass}
+        return {
+            "type": "LinearMDOF",
+            "mass": self.mass.tolist(),
+            "stiffness": self.stiffness.tolist(),
+            "damping": self.damping.tolist(),
+            "influence": self.influence.tolist(),
+            "base_mass": self.base_mass,
+        }

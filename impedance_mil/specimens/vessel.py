@@ -124,7 +124,7 @@ def impulsive_mass_ratio(gamma: float) -> float:
     x = nu / gamma
     i0 = scipy.special.ive(0, x)  # exponentially scaled: the ratio below is unaffected
     i1 = scipy.special.ive(1, x)
-    ratio = i1 / (i0 - i1 / x)    # I1(x) / I1'(x), with I1' = I0 - I1/x
+    ratio = i1 / (i0 - i1 / x)  # I1(x) / I1'(x), with I1' = I0 - I1/x
     return float(2.0 * gamma * np.sum(ratio / nu**3))
 
 
@@ -138,8 +138,9 @@ def malhotra_ci(gamma: float) -> float:
     return float(np.interp(gamma, _MALHOTRA_H_OVER_R, _MALHOTRA_CI))
 
 
-def flexible_impulsive_frequency_hz(depth_in: float, radius_in: float, thickness_in: float,
-                                    liquid_density: float, modulus_psi: float) -> float:
+def flexible_impulsive_frequency_hz(
+    depth_in: float, radius_in: float, thickness_in: float, liquid_density: float, modulus_psi: float
+) -> float:
     """Frequency [Hz] of the flexible-wall impulsive mode (EN 1998-4 A.3.2.2).
 
     ``T_imp = C_i * H * sqrt(rho) / sqrt(E * s / R)`` (Malhotra et al. 2000).
@@ -242,29 +243,37 @@ class FluidVessel(Specimen):
     impulsive_frequency_hz: float | None = None
 
     def __post_init__(self):
-        positive = ("outer_diameter_in", "height_in", "dry_weight_lbf", "water_unit_weight",
-                    "steel_modulus_psi", "convective_damping", "impulsive_damping")
+        positive = (
+            "outer_diameter_in",
+            "height_in",
+            "dry_weight_lbf",
+            "water_unit_weight",
+            "steel_modulus_psi",
+            "convective_damping",
+            "impulsive_damping",
+        )
         for key in positive:
             value = getattr(self, key)
             if not (np.isfinite(value) and value > 0):
                 raise ConfigError(key, "a positive number", value)
         if not (0 < self.wall_thickness_in < 0.5 * self.outer_diameter_in):
-            raise ConfigError("wall_thickness_in", "0 < thickness < outer radius [in]",
-                              self.wall_thickness_in)
+            raise ConfigError(
+                "wall_thickness_in", "0 < thickness < outer radius [in]", self.wall_thickness_in
+            )
         if not (np.isfinite(self.water_depth_in) and 0 <= self.water_depth_in <= self.height_in):
-            raise ConfigError("water_depth_in", f"a depth from 0 to {self.height_in} in",
-                              self.water_depth_in)
+            raise ConfigError("water_depth_in", f"a depth from 0 to {self.height_in} in", self.water_depth_in)
         if int(self.n_convective_modes) != self.n_convective_modes or self.n_convective_modes < 1:
             raise ConfigError("n_convective_modes", "an integer >= 1", self.n_convective_modes)
         if not 0 <= self.flexible_impulsive_fraction <= 1:
-            raise ConfigError("flexible_impulsive_fraction", "a fraction from 0 to 1",
-                              self.flexible_impulsive_fraction)
+            raise ConfigError(
+                "flexible_impulsive_fraction", "a fraction from 0 to 1", self.flexible_impulsive_fraction
+            )
         f_imp = self.impulsive_frequency_hz
         if f_imp is not None and not (np.isfinite(f_imp) and f_imp > 0):
             raise ConfigError("impulsive_frequency_hz", "a positive frequency [Hz] or None", f_imp)
 
     @classmethod
-    def report_default(cls, **overrides) -> "FluidVessel":
+    def report_default(cls, **overrides) -> FluidVessel:
         """The vessel of the MIL experiments: 36 in of water (Section 3.2)."""
         return cls(**{"water_depth_in": 36.0, **overrides})
 
@@ -306,8 +315,10 @@ class FluidVessel(Specimen):
         n = int(self.n_convective_modes)
         masses = convective_mass_ratios(self.depth_ratio, n) * self.liquid_mass
         freqs = convective_frequencies_hz(self.inner_radius_in, self.water_depth_in, n)
-        return tuple(Oscillator(f"convective-{k + 1}", float(m), float(f), self.convective_damping)
-                     for k, (m, f) in enumerate(zip(masses, freqs)))
+        return tuple(
+            Oscillator(f"convective-{k + 1}", float(m), float(f), self.convective_damping)
+            for k, (m, f) in enumerate(zip(masses, freqs))
+        )
 
     def flexible_impulsive_mode(self) -> Oscillator | None:
         """The flexible-wall impulsive oscillator, or ``None`` without water."""
@@ -317,8 +328,12 @@ class FluidVessel(Specimen):
         freq = self.impulsive_frequency_hz
         if freq is None:
             freq = flexible_impulsive_frequency_hz(
-                self.water_depth_in, self.inner_radius_in, self.wall_thickness_in,
-                self.water_unit_weight / G0, self.steel_modulus_psi)
+                self.water_depth_in,
+                self.inner_radius_in,
+                self.wall_thickness_in,
+                self.water_unit_weight / G0,
+                self.steel_modulus_psi,
+            )
         return Oscillator("impulsive-flexible", mass, float(freq), self.impulsive_damping)
 
     def oscillators(self) -> tuple[Oscillator, ...]:
@@ -355,10 +370,13 @@ class FluidVessel(Specimen):
 
     def to_dict(self) -> dict:
         params = {k: getattr(self, k) for k in self.__dataclass_fields__}
-        return {"type": "FluidVessel", **params,
-                "total_weight_lbf": self.total_weight,
-                "rigid_mass": self.rigid_mass,
-                "oscillators": [asdict(o) for o in self.oscillators()]}
+        return {
+            "type": "FluidVessel",
+            **params,
+            "total_weight_lbf": self.total_weight,
+            "rigid_mass": self.rigid_mass,
+            "oscillators": [asdict(o) for o in self.oscillators()],
+        }
 
 
 # The vessel is a frozen value object (hashable, equal by its fields) and its

@@ -8,11 +8,24 @@ that call them.  See ``docs/virtual.md``.
 from . import kernels, presets
 from .base import LinearPart, VirtualSystem, VSOutput, VSResponse
 from .models import FrictionPendulum, LeadRubber, SpringDamper
-from .two_storey import IsolatedTwoStorey, example_two_storey
 from .targets import BASEMAT_MASS, TEST_ARTICLE_WEIGHT, FPTargets, LRTargets, SDTargets
+from .two_storey import IsolatedTwoStorey, example_two_storey
 
 __all__ = [
-    "kernels", "presets", "VirtualSystem", "VSOutput", "VSResponse", "LinearPart",
-    "SpringDamper", "LeadRubber", "FrictionPendulum", "SDTargets", "LRTargets", "FPTargets",
-    "BASEMAT_MASS", "TEST_ARTICLE_WEIGHT", "IsolatedTwoStorey", "example_two_storey",
+    "kernels",
+    "presets",
+    "VirtualSystem",
+    "VSOutput",
+    "VSResponse",
+    "LinearPart",
+    "SpringDamper",
+    "LeadRubber",
+    "FrictionPendulum",
+    "SDTargets",
+    "LRTargets",
+    "FPTargets",
+    "BASEMAT_MASS",
+    "TEST_ARTICLE_WEIGHT",
+    "IsolatedTwoStorey",
+    "example_two_storey",
 ]

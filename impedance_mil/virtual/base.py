@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Any, ClassVar, Optional
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -77,7 +77,7 @@ class LinearPart:
 
     H_zag: TransferFunction
     H_zw: TransferFunction
-    H_zfh: Optional[TransferFunction] = None
+    H_zfh: TransferFunction | None = None
 
 
 @dataclass(frozen=True)
@@ -212,8 +212,10 @@ class VirtualSystem:
         xs = _state(x)
         return VSOutput(
             z_vs=float(kernels.vs_output_z(self.kind_code, p, xs, float(a_g), float(w))),
-            displacement=float(xs[0]), velocity=float(xs[1]),
-            force=float(kernels.vs_force(self.kind_code, p, xs)))
+            displacement=float(xs[0]),
+            velocity=float(xs[1]),
+            force=float(kernels.vs_force(self.kind_code, p, xs)),
+        )
 
     def nonlinear_input(self, x) -> float:
         """Nonlinear input f_h of :meth:`linear_part` at state ``x``.
@@ -288,12 +290,22 @@ class VirtualSystem:
                 fh[k] = self.nonlinear_input(x)
                 x = self.step_rk3(x, a[k], ww[k], dt)
         else:
-            kernels.vs_simulate(self.kind_code, self.parameter_array(), x, a, ww, float(dt),
-                                z, disp, vel, force, fh)
-        return VSResponse(time=np.arange(n) * dt, a_g=a, w=ww, z_vs=z, displacement=disp,
-                          velocity=vel, force=force, f_h=fh, final_state=x)
+            kernels.vs_simulate(
+                self.kind_code, self.parameter_array(), x, a, ww, float(dt), z, disp, vel, force, fh
+            )
+        return VSResponse(
+            time=np.arange(n) * dt,
+            a_g=a,
+            w=ww,
+            z_vs=z,
+            displacement=disp,
+            velocity=vel,
+            force=force,
+            f_h=fh,
+            final_state=x,
+        )
 
-    def with_rigid_article(self, m_article: float) -> "VirtualSystem":
+    def with_rigid_article(self, m_article: float) -> VirtualSystem:
         """Equivalent VS with a rigid test article of mass ``m_article`` lumped on the basemat.
 
         With a rigid article, ``w = -m_article * z_vs``; lumping the mass
@@ -337,8 +349,7 @@ def _kernel_linear_part(kind_code: int, params: np.ndarray) -> LinearPart:
     C = A[1, :]
     D = B[1, :] + np.array([1.0, 0.0, 0.0])
     omega = max(float(np.max(np.abs(np.linalg.eigvals(A)))), 1e-12)
-    tfs = [_drop_residue(TransferFunction.from_ss(A, B[:, j], C, D[j]), omega).minreal()
-           for j in range(3)]
+    tfs = [_drop_residue(TransferFunction.from_ss(A, B[:, j], C, D[j]), omega).minreal() for j in range(3)]
     has_fh = kind_code != kernels.KIND_SD
     return LinearPart(H_zag=tfs[0], H_zw=tfs[1], H_zfh=tfs[2] if has_fh else None)
 
@@ -351,7 +362,7 @@ def _drop_residue(tf: TransferFunction, omega: float, rtol: float = 1e-9) -> Tra
     """
     num = np.array(tf.num, dtype=float)
     powers = np.arange(num.size - 1, -1, -1)
-    terms = np.abs(num) * omega ** powers
+    terms = np.abs(num) * omega**powers
     num[terms < rtol * terms.max()] = 0.0
     return TransferFunction(num, tf.den)
 

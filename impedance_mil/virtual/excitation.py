@@ -14,8 +14,9 @@ from ..errors import ConfigError
 from .base import VirtualSystem, VSResponse
 
 
-def harmonic_ground_motion(amplitude: float, frequency_hz: float, cycles: float = 3.0,
-                           dt: float = 0.0005, ramp_cycles: float = 0.5) -> np.ndarray:
+def harmonic_ground_motion(
+    amplitude: float, frequency_hz: float, cycles: float = 3.0, dt: float = 0.0005, ramp_cycles: float = 0.5
+) -> np.ndarray:
     """Sine ground acceleration with a raised-cosine ramp-up.
 
     Parameters
@@ -36,8 +37,7 @@ def harmonic_ground_motion(amplitude: float, frequency_hz: float, cycles: float 
     ndarray
         a_g per sample [in/s**2].
     """
-    for key, value in (("amplitude", amplitude), ("frequency", frequency_hz), ("cycles", cycles),
-                       ("dt", dt)):
+    for key, value in (("amplitude", amplitude), ("frequency", frequency_hz), ("cycles", cycles), ("dt", dt)):
         if not (math.isfinite(value) and value > 0):
             raise ConfigError(key, "a positive value", value)
     if not (math.isfinite(ramp_cycles) and ramp_cycles >= 0):
@@ -74,5 +74,14 @@ def rigid_article_response(vs: VirtualSystem, a_g, dt: float, m_article: float) 
     lumped = vs.with_rigid_article(m_article)
     r = lumped.simulate(a_g, None, dt)
     w = -m_article * r.z_vs
-    return VSResponse(time=r.time, a_g=r.a_g, w=w, z_vs=r.z_vs, displacement=r.displacement,
-                      velocity=r.velocity, force=r.force, f_h=r.f_h, final_state=r.final_state)
+    return VSResponse(
+        time=r.time,
+        a_g=r.a_g,
+        w=w,
+        z_vs=r.z_vs,
+        displacement=r.displacement,
+        velocity=r.velocity,
+        force=r.force,
+        f_h=r.f_h,
+        final_state=r.final_state,
+    )

@@ -21,9 +21,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Optional
+from typing import Any
 
 from ..config import Field, parse_fields, quantity, read_toml
 from ..errors import ConfigError
@@ -37,31 +38,65 @@ _MASS = INTERNAL_UNITS["mass"]
 
 #: Internal unit of every key (pint expression) that a VS file, ``--set`` or the listing uses.
 UNITS: dict[str, str] = {
-    "m_vs": _MASS, "m_ps": _MASS, "w_ps": "force_pound", "W": "force_pound",
-    "q_d": "force_pound", "f_y": "force_pound",
-    "k_s": "force_pound / inch", "k_i": "force_pound / inch",
-    "c": "force_pound * second / inch", "u_y": "inch", "R_eff": "inch",
-    "f": "hertz", "f_vs": "hertz", "f_post_vs": "hertz", "T_s": "second", "a": "second / inch",
-    "zeta": "dimensionless", "zeta_vs": "dimensionless", "alpha": "dimensionless",
-    "q_ratio": "dimensionless", "mu_max": "dimensionless", "mu_min": "dimensionless",
+    "m_vs": _MASS,
+    "m_ps": _MASS,
+    "w_ps": "force_pound",
+    "W": "force_pound",
+    "q_d": "force_pound",
+    "f_y": "force_pound",
+    "k_s": "force_pound / inch",
+    "k_i": "force_pound / inch",
+    "c": "force_pound * second / inch",
+    "u_y": "inch",
+    "R_eff": "inch",
+    "f": "hertz",
+    "f_vs": "hertz",
+    "f_post_vs": "hertz",
+    "T_s": "second",
+    "a": "second / inch",
+    "zeta": "dimensionless",
+    "zeta_vs": "dimensionless",
+    "alpha": "dimensionless",
+    "q_ratio": "dimensionless",
+    "mu_max": "dimensionless",
+    "mu_min": "dimensionless",
     "n": "dimensionless",
 }
 
 #: Range check of each input key (see :data:`impedance_mil.config.CHECKS`); others are positive.
-CHECKS: dict[str, str] = {"c": "nonnegative", "zeta": "nonnegative", "alpha": "fraction",
-                          "a": "nonnegative", "w_ps": "nonnegative"}
+CHECKS: dict[str, str] = {
+    "c": "nonnegative",
+    "zeta": "nonnegative",
+    "alpha": "fraction",
+    "a": "nonnegative",
+    "w_ps": "nonnegative",
+}
 
 #: Human-readable label of each key, for the listing.
 LABELS: dict[str, str] = {
-    "f": "Target frequency", "zeta": "Target damping ratio", "q_ratio": "Characteristic strength ratio",
-    "T_s": "Post-elastic period", "m_vs": "Mass of the basemat", "m_ps": "Mass of the test article",
-    "w_ps": "Weight of the test article", "k_s": "Post-elastic (horizontal) stiffness",
-    "c": "Damping coefficient", "q_d": "Characteristic strength", "k_i": "Initial stiffness",
-    "alpha": "Stiffness ratio", "u_y": "Yield displacement", "f_y": "Yield strength",
-    "n": "Smoothing parameter", "mu_max": "Fast friction coefficient",
-    "mu_min": "Slow friction coefficient", "a": "Rate parameter", "W": "Axial load",
-    "R_eff": "Effective radius", "f_vs": "Frequency of the basemat alone",
-    "zeta_vs": "Damping ratio of the basemat alone", "f_post_vs": "Post-elastic frequency of the basemat alone",
+    "f": "Target frequency",
+    "zeta": "Target damping ratio",
+    "q_ratio": "Characteristic strength ratio",
+    "T_s": "Post-elastic period",
+    "m_vs": "Mass of the basemat",
+    "m_ps": "Mass of the test article",
+    "w_ps": "Weight of the test article",
+    "k_s": "Post-elastic (horizontal) stiffness",
+    "c": "Damping coefficient",
+    "q_d": "Characteristic strength",
+    "k_i": "Initial stiffness",
+    "alpha": "Stiffness ratio",
+    "u_y": "Yield displacement",
+    "f_y": "Yield strength",
+    "n": "Smoothing parameter",
+    "mu_max": "Fast friction coefficient",
+    "mu_min": "Slow friction coefficient",
+    "a": "Rate parameter",
+    "W": "Axial load",
+    "R_eff": "Effective radius",
+    "f_vs": "Frequency of the basemat alone",
+    "zeta_vs": "Damping ratio of the basemat alone",
+    "f_post_vs": "Post-elastic frequency of the basemat alone",
 }
 
 _MODELS = {"SD": SpringDamper, "LR": LeadRubber, "FP": FrictionPendulum}
@@ -104,8 +139,12 @@ def _fields_of(cls) -> dict[str, Field]:
     out = {}
     for f in dataclasses.fields(cls):
         default = None if f.default is dataclasses.MISSING else f.default
-        out[f.name] = Field(unit=UNITS[f.name], check=CHECKS.get(f.name, "positive"),
-                            default=default, help=LABELS.get(f.name, ""))
+        out[f.name] = Field(
+            unit=UNITS[f.name],
+            check=CHECKS.get(f.name, "positive"),
+            default=default,
+            help=LABELS.get(f.name, ""),
+        )
     return out
 
 
@@ -140,8 +179,9 @@ def spec_from_mapping(mapping: Mapping[str, Any], name: str = "file", where: str
     if _TARGET_ONLY[kind] & set(data):
         target_fields = _fields_of(target_cls)
         extra = {k: v for k, v in data.items() if k not in target_fields}
-        design = target_cls(**parse_fields(target_fields, {k: v for k, v in data.items()
-                                                           if k in target_fields}, where=where))
+        design = target_cls(
+            **parse_fields(target_fields, {k: v for k, v in data.items() if k in target_fields}, where=where)
+        )
         return with_overrides(VSSpec(name, design.build(), design), extra, where)
     return VSSpec(name, model(**parse_fields(_fields_of(model), data, where=where)))
 
@@ -166,7 +206,7 @@ def load(path: str | Path) -> VSSpec:
         raise ConfigError(where + exc.key, exc.expected, exc.got) from None
 
 
-def resolve(preset_or_file: str, overrides: Optional[Mapping[str, Any]] = None) -> VSSpec:
+def resolve(preset_or_file: str, overrides: Mapping[str, Any] | None = None) -> VSSpec:
     """A preset name (``SD1`` .. ``FP3``) or a VS file, with ``--set`` overrides applied.
 
     Raises
@@ -183,8 +223,9 @@ def resolve(preset_or_file: str, overrides: Optional[Mapping[str, Any]] = None) 
     elif Path(text).exists():
         spec = load(text)
     else:
-        raise ConfigError("preset", "a preset (" + ", ".join(presets.names()) + ") or a VS file",
-                          preset_or_file)
+        raise ConfigError(
+            "preset", "a preset (" + ", ".join(presets.names()) + ") or a VS file", preset_or_file
+        )
     return with_overrides(spec, overrides or {})
 
 
@@ -202,8 +243,9 @@ def with_overrides(spec: VSSpec, overrides: Mapping[str, Any], where: str = "") 
     values = _convert(overrides, known, spec.vs.kind, where)
     if spec.targets is not None:
         model_keys = {f.name for f in dataclasses.fields(spec.vs)}
-        targets = dataclasses.replace(spec.targets, **{k: v for k, v in values.items()
-                                                      if k not in model_keys})
+        targets = dataclasses.replace(
+            spec.targets, **{k: v for k, v in values.items() if k not in model_keys}
+        )
         model = {**spec.model_overrides, **{k: v for k, v in values.items() if k in model_keys}}
         return VSSpec(spec.name, presets.apply_overrides(targets, model), targets, model)
     return VSSpec(spec.name, dataclasses.replace(spec.vs, **values))
@@ -245,11 +287,16 @@ def from_parameters(kind: Any, parameters: Any, where: str = "") -> VirtualSyste
             continue
         if key not in derived:
             raise ConfigError(f"{where}parameters.{key}", f"a {vs.kind} parameter: " + ", ".join(names))
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isclose(
-                float(value), derived[key], rel_tol=1e-9, abs_tol=1e-300):
-            raise ConfigError(f"{where}parameters.{key}",
-                              f"{derived[key]!r}, the value its parameters give (edit the parameters, "
-                              "not derived values)", value)
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float))
+            or not math.isclose(float(value), derived[key], rel_tol=1e-9, abs_tol=1e-300)
+        ):
+            raise ConfigError(
+                f"{where}parameters.{key}",
+                f"{derived[key]!r}, the value its parameters give (edit the parameters, not derived values)",
+                value,
+            )
     return vs
 
 

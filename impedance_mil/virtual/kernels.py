@@ -176,8 +176,9 @@ def _linear_derivative_at(kind_code, params, x, xo, a_g, w, f_h, out, oo):
     if kind_code == KIND_SD:
         out[oo + 1] = (w - params[1] * x[xo] - params[2] * x[xo + 1]) / params[0] - a_g
     elif kind_code == KIND_LR:
-        out[oo + 1] = (w - params[2] * params[1] * x[xo] - params[4] * x[xo + 1]
-                       - params[3] * x[xo + 2]) / params[0] - a_g
+        out[oo + 1] = (
+            w - params[2] * params[1] * x[xo] - params[4] * x[xo + 1] - params[3] * x[xo + 2]
+        ) / params[0] - a_g
         out[oo + 2] = _lr_inv_uy(params) * x[xo + 1] - f_h
     elif kind_code == KIND_FP:
         out[oo + 1] = (w - params[1] * x[xo] - f_h) / params[0] - a_g
@@ -192,8 +193,7 @@ def _derivative_at(kind_code, params, x, xo, a_g, w, out, oo):
     _linear_derivative_at(kind_code, params, x, xo, a_g, w, f_h, out, oo)
     if kind_code == KIND_FP:
         inv_uy = 1.0 / params[5]
-        out[oo + 2] = inv_uy * x[xo + 1] - _bouc_wen_nonlinear(x[xo + 1], x[xo + 2], inv_uy,
-                                                               params[7])
+        out[oo + 2] = inv_uy * x[xo + 1] - _bouc_wen_nonlinear(x[xo + 1], x[xo + 2], inv_uy, params[7])
 
 
 @numba.njit(**_STEP)

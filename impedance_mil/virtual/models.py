@@ -117,8 +117,12 @@ class LeadRubber(VirtualSystem):
 
     def derived(self) -> dict[str, float]:
         """k_s [lbf/in], u_y [in], f_y [lbf] and the post-elastic frequency of the basemat [Hz]."""
-        return {"k_s": self.k_s, "u_y": self.u_y, "f_y": self.f_y,
-                "f_post_vs": math.sqrt(self.k_s / self.m_vs) / TWO_PI}
+        return {
+            "k_s": self.k_s,
+            "u_y": self.u_y,
+            "f_y": self.f_y,
+            "f_post_vs": math.sqrt(self.k_s / self.m_vs) / TWO_PI,
+        }
 
 
 @dataclass(frozen=True)
@@ -193,10 +197,15 @@ class FrictionPendulum(VirtualSystem):
 
     def derived(self) -> dict[str, float]:
         """W [lbf], k_i [lbf/in], R_eff [in], q_d = mu_max*W [lbf], sliding period [s]."""
-        return {"W": self.W, "k_i": self.k_i, "R_eff": self.R_eff, "q_d": self.mu_max * self.W,
-                "T_s": TWO_PI * math.sqrt(self.W / G0 / self.k_s)}
+        return {
+            "W": self.W,
+            "k_i": self.k_i,
+            "R_eff": self.R_eff,
+            "q_d": self.mu_max * self.W,
+            "T_s": TWO_PI * math.sqrt(self.W / G0 / self.k_s),
+        }
 
-    def with_rigid_article(self, m_article: float) -> "FrictionPendulum":
+    def with_rigid_article(self, m_article: float) -> FrictionPendulum:
         """Lump a rigid article of mass ``m_article`` [lbf*s**2/in] on the basemat, keeping W.
 
         The article's weight is already part of ``w_ps``; lumping moves it
@@ -205,6 +214,5 @@ class FrictionPendulum(VirtualSystem):
         _nonnegative("m_article", m_article)
         w_rest = self.w_ps - m_article * G0
         if w_rest < -1e-9 * max(self.w_ps, 1.0):
-            raise ConfigError("m_article", f"a weight of at most w_ps = {self.w_ps:g} lbf",
-                              m_article * G0)
+            raise ConfigError("m_article", f"a weight of at most w_ps = {self.w_ps:g} lbf", m_article * G0)
         return dataclasses.replace(self, m_vs=self.m_vs + m_article, w_ps=max(w_rest, 0.0))

@@ -16,13 +16,13 @@ to the design targets otherwise (``f``, ``zeta``, ``q_ratio``, ``T_s``, LR's
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Union
+from typing import Any
 
 from ..errors import ConfigError
 from .base import VirtualSystem
 from .targets import FPTargets, LRTargets, SDTargets
 
-Targets = Union[SDTargets, LRTargets, FPTargets]
+Targets = SDTargets | LRTargets | FPTargets
 
 # Table 9.1: [f (Hz), zeta]; Table 9.2: [q_ratio, T_s, c]; Table 9.3: [mu_max, mu_min, T_s].
 _PRESETS: dict[str, Targets] = {
@@ -70,8 +70,9 @@ def apply_overrides(design: Targets, overrides: dict[str, Any]) -> VirtualSystem
     model_keys = {f.name for f in dataclasses.fields(design.build())}
     for key in overrides:
         if key not in target_keys | model_keys:
-            raise ConfigError(key, f"a {design.kind} parameter or target: "
-                              + ", ".join(sorted(target_keys | model_keys)))
+            raise ConfigError(
+                key, f"a {design.kind} parameter or target: " + ", ".join(sorted(target_keys | model_keys))
+            )
     for_targets = {k: float(v) for k, v in overrides.items() if k not in model_keys}
     for_model = {k: float(v) for k, v in overrides.items() if k in model_keys}
     vs = dataclasses.replace(design, **for_targets).build()

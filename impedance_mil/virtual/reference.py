@@ -15,8 +15,9 @@ from ..errors import ConfigError
 from .base import VirtualSystem, _inputs, _state
 
 
-def reference_states(vs: VirtualSystem, a_g, w=None, dt: float = 0.0005, x0=None,
-                     rtol: float = 1e-12, atol: float = 1e-14) -> np.ndarray:
+def reference_states(
+    vs: VirtualSystem, a_g, w=None, dt: float = 0.0005, x0=None, rtol: float = 1e-12, atol: float = 1e-14
+) -> np.ndarray:
     """States at every sample boundary, integrated with DOP853 at tight tolerances.
 
     Parameters
@@ -45,8 +46,14 @@ def reference_states(vs: VirtualSystem, a_g, w=None, dt: float = 0.0005, x0=None
     out = np.empty((a.size + 1, x.size))
     out[0] = x
     for k in range(a.size):
-        sol = solve_ivp(lambda _t, s, ak=a[k], wk=ww[k]: vs.derivative(s, ak, wk), (0.0, dt), x,
-                        method="DOP853", rtol=rtol, atol=atol)
+        sol = solve_ivp(
+            lambda _t, s, ak=a[k], wk=ww[k]: vs.derivative(s, ak, wk),
+            (0.0, dt),
+            x,
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+        )
         x = sol.y[:, -1]
         out[k + 1] = x
     return out

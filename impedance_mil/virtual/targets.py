@@ -149,9 +149,16 @@ class FPTargets:
     def build(self) -> FrictionPendulum:
         """``k_s = (2*pi/T_s)**2*M`` (``R_eff = g*(T_s/2/pi)**2``); the rest passes through."""
         M = _total_mass(self.m_vs, self.w_ps)
-        return FrictionPendulum(m_vs=self.m_vs, k_s=_post_elastic_stiffness(self.T_s, M),
-                                mu_max=self.mu_max, mu_min=self.mu_min, a=self.a, u_y=self.u_y,
-                                w_ps=self.w_ps, n=self.n)
+        return FrictionPendulum(
+            m_vs=self.m_vs,
+            k_s=_post_elastic_stiffness(self.T_s, M),
+            mu_max=self.mu_max,
+            mu_min=self.mu_min,
+            a=self.a,
+            u_y=self.u_y,
+            w_ps=self.w_ps,
+            n=self.n,
+        )
 
     @property
     def q_ratio(self) -> float:

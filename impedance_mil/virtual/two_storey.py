@@ -95,15 +95,20 @@ class IsolatedTwoStorey(VirtualSystem):
         """Roof acceleration (absolute), roof displacement/velocity, isolator force."""
         xs = _state(x)
         roof_accel = self._A[5] @ xs + self._B[5] @ np.array([float(a_g), float(w)])
-        return VSOutput(z_vs=float(roof_accel + a_g), displacement=float(xs[2]),
-                        velocity=float(xs[5]), force=float(self.k_b * xs[0] + self.c_b * xs[3]))
+        return VSOutput(
+            z_vs=float(roof_accel + a_g),
+            displacement=float(xs[2]),
+            velocity=float(xs[5]),
+            force=float(self.k_b * xs[0] + self.c_b * xs[3]),
+        )
 
     def linear_part(self) -> LinearPart:
         """H_zag and H_zw of the roof acceleration (the system is linear: no f_h)."""
         C = self._A[5]
         return LinearPart(
             H_zag=TransferFunction.from_ss(self._A, self._B[:, 0], C, self._B[5, 0] + 1.0).minreal(),
-            H_zw=TransferFunction.from_ss(self._A, self._B[:, 1], C, self._B[5, 1]).minreal())
+            H_zw=TransferFunction.from_ss(self._A, self._B[:, 1], C, self._B[5, 1]).minreal(),
+        )
 
     def modes(self) -> list[tuple[float, float]]:
         """(frequency [Hz], damping ratio) of each mode, from the poles, lowest first."""
@@ -117,9 +122,14 @@ def _chain(k_b: float, k_1: float, k_2: float) -> np.ndarray:
     return np.array([[k_b + k_1, -k_1, 0.0], [-k_1, k_1 + k_2, -k_2], [0.0, -k_2, k_2]])
 
 
-def example_two_storey(isolation_period: float = 2.0, isolation_damping: float = 0.15,
-                       storey_frequency: float = 5.0, storey_damping: float = 0.02,
-                       floor_weight: float = 2000.0, w_ps: float = 3600.0) -> IsolatedTwoStorey:
+def example_two_storey(
+    isolation_period: float = 2.0,
+    isolation_damping: float = 0.15,
+    storey_frequency: float = 5.0,
+    storey_damping: float = 0.02,
+    floor_weight: float = 2000.0,
+    w_ps: float = 3600.0,
+) -> IsolatedTwoStorey:
     """A plausible isolated two-storey frame sized like the report's systems.
 
     Parameters
@@ -142,6 +152,14 @@ def example_two_storey(isolation_period: float = 2.0, isolation_damping: float =
     k_b = (TWO_PI / isolation_period) ** 2 * total
     k_s = (TWO_PI * storey_frequency) ** 2 * (m + w_ps / G0)
     c_s = 2.0 * storey_damping * math.sqrt(k_s * (m + w_ps / G0))
-    return IsolatedTwoStorey(m_vs=m, m_b=m, m_1=m, k_b=k_b,
-                             c_b=2.0 * isolation_damping * math.sqrt(k_b * total),
-                             k_1=k_s, c_1=c_s, k_2=k_s, c_2=c_s)
+    return IsolatedTwoStorey(
+        m_vs=m,
+        m_b=m,
+        m_1=m,
+        k_b=k_b,
+        c_b=2.0 * isolation_damping * math.sqrt(k_b * total),
+        k_1=k_s,
+        c_1=c_s,
+        k_2=k_s,
+        c_2=c_s,
+    )

@@ -9,8 +9,10 @@ BY_ID = {c.id: c for c in CLAIMS}
 
 
 def table(study, rows):
-    full = [{"run_id": f"r{i}", "study": study, "status": "ok", "error": "", "hdf5": "",
-             "elapsed_s": 0.1, **row} for i, row in enumerate(rows)]
+    full = [
+        {"run_id": f"r{i}", "study": study, "status": "ok", "error": "", "hdf5": "", "elapsed_s": 0.1, **row}
+        for i, row in enumerate(rows)
+    ]
     columns = tuple(dict.fromkeys(k for row in full for k in row))
     return SummaryTable(columns, tuple(full))
 
@@ -33,10 +35,23 @@ def test_claims_name_their_section_and_a_builtin_campaign():
 
 def test_table_9_5_pattern():
     # Table 9.5: 1000 Hz S/N/S, 250 S/S/S, 100 S/S/S, 50 N/S/N.
-    pattern = {1000.0: (True, False, True), 250.0: (True, True, True), 100.0: (True, True, True),
-               50.0: (False, True, False)}
-    rows = [{"f_c": fc, "I": i, "II": ii, "III": iii, "performance_error": 0.1,
-             "passivity_tolerant_margin_deg": 1.0} for fc, (i, ii, iii) in pattern.items()]
+    pattern = {
+        1000.0: (True, False, True),
+        250.0: (True, True, True),
+        100.0: (True, True, True),
+        50.0: (False, True, False),
+    }
+    rows = [
+        {
+            "f_c": fc,
+            "I": i,
+            "II": ii,
+            "III": iii,
+            "performance_error": 0.1,
+            "passivity_tolerant_margin_deg": 1.0,
+        }
+        for fc, (i, ii, iii) in pattern.items()
+    ]
     assert verdict("sec9-table-9.5", [table("design-fc", rows)]).verdict == AGREE
     rows[3]["III"] = True
     assert verdict("sec9-table-9.5", [table("design-fc", rows)]).verdict == DISAGREE
@@ -44,9 +59,17 @@ def test_table_9_5_pattern():
 
 def test_basemat_mass_threshold():
     def rows(unstable, limit="divergence"):
-        return [{"vs": "SD2", "m_vs_ratio": r, "status": "aborted" if r in unstable else "ok",
-                 "error": f"limit '{limit}' tripped at t = 1 s" if r in unstable else "",
-                 "hf_ratio": 0.1} for r in (1.25, 1.0, 0.9, 0.8, 0.7)]
+        return [
+            {
+                "vs": "SD2",
+                "m_vs_ratio": r,
+                "status": "aborted" if r in unstable else "ok",
+                "error": f"limit '{limit}' tripped at t = 1 s" if r in unstable else "",
+                "hf_ratio": 0.1,
+            }
+            for r in (1.25, 1.0, 0.9, 0.8, 0.7)
+        ]
+
     assert verdict("sec9-basemat-mass", [table("basemat-mass", rows({0.7}))]).verdict == AGREE
     # Unstable already at 0.9 (as the passivity design check suggests): the report's 0.7 is not reproduced.
     outcome = verdict("sec9-basemat-mass", [table("basemat-mass", rows({0.9, 0.8, 0.7}))])
@@ -69,8 +92,11 @@ def test_mil_band_needs_15_hz_in_most_cases():
 
 
 def test_tracking_kp_compares_the_mean_over_motions():
-    rows = [{"K_p": kp, "motion": gm, "spectral_error_low": err}
-            for kp, err in ((0.0002, 0.6), (0.001, 0.1)) for gm in ("GM1", "GM2")]
+    rows = [
+        {"K_p": kp, "motion": gm, "spectral_error_low": err}
+        for kp, err in ((0.0002, 0.6), (0.001, 0.1))
+        for gm in ("GM1", "GM2")
+    ]
     assert verdict("sec8-kp", [table("kp", rows)]).verdict == AGREE
     for row in rows:
         row["spectral_error_low"] = 0.1 if row["K_p"] == 0.0002 else 0.6

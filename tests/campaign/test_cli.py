@@ -34,18 +34,28 @@ def imil(monkeypatch, capsys):
 HEAD = '[campaign]\nname = "t"\nkind = "selftest"\n'
 
 
-@pytest.mark.parametrize("body, message", [
-    ('[[study]]\nname = "a"\nproduct = { stifness = [1] }\n',
-     "imil: error: study.a.product.stifness: expected a known parameter"),
-    ('[[study]]\nname = "a"\nproduct = { stiffness = [] }\n',
-     "imil: error: study.a.product.stiffness: expected a non-empty list"),
-    ('[[study]]\nname = "a"\nproduct = { stiffness = ["2 s"] }\n',
-     "imil: error: study.a.product.stiffness: expected a quantity with the dimension of force_pound / inch"),
-    ('[[study]]\nname = "a"\nproduct = { stiffness = [1, 2, 3] }\n',
-     "imil: error: --max-runs: expected at most 2 runs, got '3 runs"),
-])
-def test_bad_campaign_exits_2_with_one_line_and_writes_nothing(imil, make_campaign, tmp_path, body,
-                                                               message):
+@pytest.mark.parametrize(
+    "body, message",
+    [
+        (
+            '[[study]]\nname = "a"\nproduct = { stifness = [1] }\n',
+            "imil: error: study.a.product.stifness: expected a known parameter",
+        ),
+        (
+            '[[study]]\nname = "a"\nproduct = { stiffness = [] }\n',
+            "imil: error: study.a.product.stiffness: expected a non-empty list",
+        ),
+        (
+            '[[study]]\nname = "a"\nproduct = { stiffness = ["2 s"] }\n',
+            "imil: error: study.a.product.stiffness: expected a quantity with the dimension of force_pound / inch",
+        ),
+        (
+            '[[study]]\nname = "a"\nproduct = { stiffness = [1, 2, 3] }\n',
+            "imil: error: --max-runs: expected at most 2 runs, got '3 runs",
+        ),
+    ],
+)
+def test_bad_campaign_exits_2_with_one_line_and_writes_nothing(imil, make_campaign, tmp_path, body, message):
     out = tmp_path / "out"
     status, _, err = imil("run", make_campaign(HEAD + body), "-o", out, "--max-runs", 2, "--workers", 0)
     assert status == 2
@@ -56,12 +66,14 @@ def test_bad_campaign_exits_2_with_one_line_and_writes_nothing(imil, make_campai
 
 def test_unreachable_scheduler_is_one_line_and_quick(imil, sd_campaign, tmp_path):
     # Port 9 (discard) is closed on localhost; a 1 s connect timeout bounds the wait.
-    status, _, err = imil("run", sd_campaign, "-o", tmp_path / "o", "--scheduler", "tcp://127.0.0.1:9",
-                          "--connect-timeout", 1)
+    status, _, err = imil(
+        "run", sd_campaign, "-o", tmp_path / "o", "--scheduler", "tcp://127.0.0.1:9", "--connect-timeout", 1
+    )
     assert status == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(
-        "imil: error: --scheduler tcp://127.0.0.1:9: no Dask scheduler reachable within 1 s"), err
+        "imil: error: --scheduler tcp://127.0.0.1:9: no Dask scheduler reachable within 1 s"
+    ), err
 
 
 def test_run_json_then_resume(imil, sd_campaign, tmp_path):
@@ -102,5 +114,7 @@ def test_interrupt_exits_130_and_says_how_to_resume(imil, sd_campaign, tmp_path,
     monkeypatch.setattr(campaign, "run_campaign", interrupted)
     status, _, err = imil("run", sd_campaign, "-o", tmp_path / "o", "--workers", 0, "--json")
     assert status == 130
-    assert err.strip() == f"imil: interrupted; finished runs are kept in {tmp_path / 'o'}; " \
-                          "run the same command to resume"
+    assert (
+        err.strip() == f"imil: interrupted; finished runs are kept in {tmp_path / 'o'}; "
+        "run the same command to resume"
+    )

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from impedance_mil.campaign import InlineExecutor, SchedulerError, load_campaign, run_campaign
-from impedance_mil.campaign import executors
+from impedance_mil.campaign import InlineExecutor, SchedulerError, executors, load_campaign, run_campaign
 
 distributed = pytest.importorskip("distributed", reason="optional extra impedance-mil[dask] missing")
 
@@ -13,8 +12,9 @@ distributed = pytest.importorskip("distributed", reason="optional extra impedanc
 def test_campaign_on_a_dask_cluster_matches_inline(sd_campaign, tmp_path):
     spec = load_campaign(sd_campaign)
     inline = run_campaign(spec, tmp_path / "inline", InlineExecutor())
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
+    ) as cluster:
         with executors.make_executor(scheduler=cluster.scheduler_address, connect_timeout_s=10) as pool:
             assert pool.workers == 2 and "Dask scheduler" in pool.description
             dask_result = run_campaign(spec, tmp_path / "dask", pool)
@@ -26,7 +26,9 @@ def test_campaign_on_a_dask_cluster_matches_inline(sd_campaign, tmp_path):
 
 def test_missing_dask_is_a_one_line_error(monkeypatch):
     monkeypatch.setattr(executors, "distributed", None)
-    with pytest.raises(SchedulerError, match=r"^--scheduler needs Dask: pip install 'impedance-mil\[dask\]'$"):
+    with pytest.raises(
+        SchedulerError, match=r"^--scheduler needs Dask: pip install 'impedance-mil\[dask\]'$"
+    ):
         executors.make_executor(scheduler="tcp://127.0.0.1:8786")
 
 

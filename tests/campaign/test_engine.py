@@ -14,8 +14,7 @@ import h5py
 import pyarrow.parquet as pq
 import pytest
 
-from impedance_mil.campaign import (InlineExecutor, LocalExecutor, load_campaign, load_summary,
-                                    run_campaign)
+from impedance_mil.campaign import InlineExecutor, LocalExecutor, load_campaign, load_summary, run_campaign
 from impedance_mil.design.io import load_design
 
 HEAD = '[campaign]\nname = "t"\nkind = "selftest"\n'
@@ -43,8 +42,9 @@ def test_selftest_reproduces_the_targets_of_table_9_1(sd_campaign, tmp_path):
 def test_only_lab_kinds_write_run_files(make_campaign, tmp_path):
     # A design run writes a design file (loadable, same f_c and verdicts as its record), not a
     # "run.h5" that `imil report` would refuse; the selftest writes selftest.h5.
-    path = make_campaign('[campaign]\nname = "d"\nkind = "design"\n[[study]]\nname = "fc"\n'
-                         'product = { f_c = [60, 80] }\n')
+    path = make_campaign(
+        '[campaign]\nname = "d"\nkind = "design"\n[[study]]\nname = "fc"\nproduct = { f_c = [60, 80] }\n'
+    )
     result = run_campaign(load_campaign(path), tmp_path / "out", InlineExecutor())
     for record in result.records:
         assert record.status == "ok" and record.hdf5.endswith("/design.json")
@@ -53,8 +53,11 @@ def test_only_lab_kinds_write_run_files(make_campaign, tmp_path):
         c = design.constraint_at(design.fc_hz)
         assert (c.I, c.II, c.III) == (record.metrics["I"], record.metrics["II"], record.metrics["III"])
     assert not list((tmp_path / "out").rglob("run.h5"))
-    selftest = run_campaign(load_campaign(make_campaign(HEAD + '[[study]]\nname = "one"\n', "s.toml")),
-                            tmp_path / "s", InlineExecutor())
+    selftest = run_campaign(
+        load_campaign(make_campaign(HEAD + '[[study]]\nname = "one"\n', "s.toml")),
+        tmp_path / "s",
+        InlineExecutor(),
+    )
     assert [r.hdf5.rsplit("/", 1)[-1] for r in selftest.records] == ["selftest.h5"]
 
 
@@ -69,7 +72,9 @@ def test_local_pool_gives_the_same_metrics_as_inline(sd_campaign, tmp_path):
 
 
 def test_a_failing_run_is_recorded_and_the_campaign_goes_on(make_campaign, tmp_path):
-    path = make_campaign(HEAD + '[[study]]\nname = "a"\nproduct = { fail = [false, true], damping = [1, 2] }\n')
+    path = make_campaign(
+        HEAD + '[[study]]\nname = "a"\nproduct = { fail = [false, true], damping = [1, 2] }\n'
+    )
     result = run_campaign(load_campaign(path), tmp_path / "out", InlineExecutor())
     assert result.count("ok") == 2 and result.count("failed") == 2
     failed = [r for r in result.records if r.status == "failed"]
@@ -114,12 +119,19 @@ def test_read_only_run_folder_as_an_unprivileged_user(sd_campaign, tmp_path):
     for parent in tmp_path.parents:  # pytest's tmp folders are private to root
         if str(parent).startswith("/tmp/pytest-of"):
             os.chmod(parent, parent.stat().st_mode | 0o011)
-    code = ("import sys; from impedance_mil.campaign import *; "
-            "r = run_campaign(load_campaign(sys.argv[1]), sys.argv[2], InlineExecutor()); "
-            "print(';'.join(f'{x.run_id}={x.status}={x.error}' for x in r.records))")
+    code = (
+        "import sys; from impedance_mil.campaign import *; "
+        "r = run_campaign(load_campaign(sys.argv[1]), sys.argv[2], InlineExecutor()); "
+        "print(';'.join(f'{x.run_id}={x.status}={x.error}' for x in r.records))"
+    )
     try:
-        proc = subprocess.run([sys.executable, "-c", code, str(sd_campaign), str(out)], user=65534,
-                              capture_output=True, text=True, timeout=60)
+        proc = subprocess.run(
+            [sys.executable, "-c", code, str(sd_campaign), str(out)],
+            user=65534,
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
     except PermissionError as exc:
         pytest.skip(f"'nobody' cannot execute this Python ({exc.strerror})")
     if proc.returncode != 0 and "Permission denied" in proc.stderr and "records" not in proc.stderr:
@@ -134,6 +146,7 @@ def _interrupt_after(k):
     def on_progress(event):
         if event.done == k:
             raise KeyboardInterrupt
+
     return on_progress
 
 
@@ -154,8 +167,10 @@ def test_interrupted_inline_campaign_resumes_with_only_the_remaining_runs(make_c
 
 
 def test_interrupted_pool_campaign_resumes_with_only_the_remaining_runs(make_campaign, tmp_path):
-    path = make_campaign(HEAD + '[base]\ndelay = "0.05 s"\n'
-                         '[[study]]\nname = "a"\nproduct = { stiffness = [1, 2, 3, 4, 5, 6, 7, 8] }\n')
+    path = make_campaign(
+        HEAD + '[base]\ndelay = "0.05 s"\n'
+        '[[study]]\nname = "a"\nproduct = { stiffness = [1, 2, 3, 4, 5, 6, 7, 8] }\n'
+    )
     spec, out = load_campaign(path), tmp_path / "out"
     with pytest.raises(KeyboardInterrupt):
         with LocalExecutor(2) as pool:
@@ -171,11 +186,15 @@ def test_interrupted_pool_campaign_resumes_with_only_the_remaining_runs(make_cam
 
 def test_killed_campaign_resumes_with_only_the_remaining_runs(make_campaign, tmp_path):
     """SIGKILL the whole process group mid-campaign, then restart."""
-    path = make_campaign(HEAD + '[base]\ndelay = "0.3 s"\n'
-                         '[[study]]\nname = "a"\nproduct = { stiffness = [1, 2, 3, 4, 5, 6, 7, 8] }\n')
+    path = make_campaign(
+        HEAD + '[base]\ndelay = "0.3 s"\n'
+        '[[study]]\nname = "a"\nproduct = { stiffness = [1, 2, 3, 4, 5, 6, 7, 8] }\n'
+    )
     out = tmp_path / "out"
-    code = ("import sys; from impedance_mil.campaign import *; "
-            "run_campaign(load_campaign(sys.argv[1]), sys.argv[2], InlineExecutor())")
+    code = (
+        "import sys; from impedance_mil.campaign import *; "
+        "run_campaign(load_campaign(sys.argv[1]), sys.argv[2], InlineExecutor())"
+    )
     proc = subprocess.Popen([sys.executable, "-c", code, str(path), str(out)], start_new_session=True)
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline:
@@ -195,7 +214,9 @@ def test_killed_campaign_resumes_with_only_the_remaining_runs(make_campaign, tmp
 
 
 def test_summary_csv_and_parquet_hold_one_row_per_run(make_campaign, tmp_path):
-    path = make_campaign(HEAD + '[[study]]\nname = "a"\nproduct = { fail = [false, true], damping = [1, 2] }\n')
+    path = make_campaign(
+        HEAD + '[[study]]\nname = "a"\nproduct = { fail = [false, true], damping = [1, 2] }\n'
+    )
     spec = load_campaign(path)
     result = run_campaign(spec, tmp_path / "out", InlineExecutor())
     with open(result.summary.csv) as fh:

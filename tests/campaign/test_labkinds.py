@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from impedance_mil.campaign import InlineExecutor, load_campaign, run_campaign
-from impedance_mil.campaign import motions
+from impedance_mil.campaign import InlineExecutor, load_campaign, motions, run_campaign
 from impedance_mil.campaign.motions import REPORT_MOTIONS, find_peer_file, motion_source, report_motion
 from impedance_mil.lab.results import load_run
 from impedance_mil.units import G0
@@ -51,8 +50,10 @@ def test_mil_and_tracking_runs_record_metrics_and_hdf5(lab_campaign):
         assert run.loop_time == pytest.approx(5e-4)
         assert 3.0 <= run.n_samples * run.loop_time <= 3.0 + 0.005 + 5e-4
         # GM3's substitute: FEMA P695 20b with the optional extra, else the built-in RSN 6.
-        assert record.metrics["motion_source"] in ("substitute FEMA P695 farfield 20b",
-                                                   "substitute built-in elcentro")
+        assert record.metrics["motion_source"] in (
+            "substitute FEMA P695 farfield 20b",
+            "substitute built-in elcentro",
+        )
     # The MIL runs use the preset's basemat mass: 2000 lb on a 1600 lb table (Table 9.1).
     assert by_study["mil"][0].metrics["m_vs_over_m_st"] == pytest.approx(1.25, rel=1e-3)
 
@@ -106,8 +107,9 @@ def test_fema_substitutes_fit_the_stroke():
 def test_a_tripped_frf_run_is_aborted_and_keeps_its_data(tmp_path):
     # K_e = 60 V/in (twelve times Table 4.1's 5 V/in) makes the controlled table ring up
     # under the multisine until the actuator-force interlock (6000 lbf) stops it within 0.1 s.
-    (tmp_path / "frf.toml").write_text('[campaign]\nname = "frf-trip"\nkind = "frf"\n'
-                                       '[[study]]\nname = "hot"\nset = { K_e = "60 V/in" }\n')
+    (tmp_path / "frf.toml").write_text(
+        '[campaign]\nname = "frf-trip"\nkind = "frf"\n[[study]]\nname = "hot"\nset = { K_e = "60 V/in" }\n'
+    )
     result = run_campaign(load_campaign(tmp_path / "frf.toml"), tmp_path / "out", InlineExecutor())
     (record,) = result.records
     assert record.status == "aborted" and "actuator_force" in record.error

@@ -35,8 +35,9 @@ def test_nan_has_no_canonical_form():
 def test_record_round_trip_and_nan_metrics_become_null(tmp_path):
     store = CampaignStore(tmp_path)
     store.create()
-    record = RunRecord("abc", "selftest", ("s",), {"k": 1.0}, "ok",
-                       metrics={"x": 1.5, "bad": float("nan")}, hdf5="")
+    record = RunRecord(
+        "abc", "selftest", ("s",), {"k": 1.0}, "ok", metrics={"x": 1.5, "bad": float("nan")}, hdf5=""
+    )
     store.write_record(record)
     back = store.load_record("abc")
     assert back.metrics == {"x": 1.5, "bad": None}

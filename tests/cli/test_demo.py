@@ -12,8 +12,13 @@ from impedance_mil.cli.runopts import percent, read_summary
 from impedance_mil.lab import load_run
 from impedance_mil.signals import builtin_motion
 
-TABLE_FILES = ("table_summary.txt", "table_bode.png", "table_rlocus_Ke.png", "table_rlocus_Kp.png",
-               "table_rlocus_loop_time.png")
+TABLE_FILES = (
+    "table_summary.txt",
+    "table_bode.png",
+    "table_rlocus_Ke.png",
+    "table_rlocus_Kp.png",
+    "table_rlocus_loop_time.png",
+)
 
 
 def demo(folder, *extra):
@@ -27,7 +32,7 @@ def demo(folder, *extra):
 
 def test_full_default_configuration_then_quick(tmp_path, capfd):
     # One test (not two sharing a fixture): under pytest-xdist each would run the full demo.
-    full = tmp_path / "demo-output"                              # created by the demo
+    full = tmp_path / "demo-output"  # created by the demo
     assert demo(full) == 0
     out, err = capfd.readouterr()
     for name in TABLE_FILES + ("run.h5", "run.html"):
@@ -50,7 +55,7 @@ def test_full_default_configuration_then_quick(tmp_path, capfd):
     assert result.config["specimen"]["water_depth_in"] == 36.0 and result.mode == "mil"
     # The prediction and the loop agree: a basemat motion beyond the stroke interlock is stopped by it.
     predicted = summary["pretest"]["basemat_predicted"]
-    assert predicted["exceeded"] == [] and result.trip is None      # the whole record runs
+    assert predicted["exceeded"] == [] and result.trip is None  # the whole record runs
     assert summary["simulated_s"] == pytest.approx(gm1.duration, abs=0.01)
     # The key metrics printed are the file's.
     assert f"spectral error 0.25-15 Hz {percent(summary['spectral_error_0p25_15hz'])}" in out
@@ -62,7 +67,7 @@ def test_full_default_configuration_then_quick(tmp_path, capfd):
     for heading in ("Histories", "Response spectra", "Force-displacement"):
         assert f"<h2>{heading}</h2>" in page
     for name in TABLE_FILES + ("run.h5", "run.html"):
-        assert str(full / name) in out                           # where everything is
+        assert str(full / name) in out  # where everything is
 
     # --quick, in the same folder: a shorter motion, and the demo replaces its own files.
     before = (full / "run.h5").stat().st_mtime_ns

@@ -6,7 +6,6 @@ import json
 
 import pytest
 
-
 from impedance_mil.design import design_controller, save_design, table_model
 from impedance_mil.plant import TableParameters
 
@@ -14,8 +13,9 @@ from impedance_mil.plant import TableParameters
 @pytest.fixture(scope="module")
 def design_file(tmp_path_factory):
     d = tmp_path_factory.mktemp("design")
-    design = design_controller(table_model(TableParameters.report_default()), form="standardized",
-                               fc_hz=80.0, emit_warnings=False)
+    design = design_controller(
+        table_model(TableParameters.report_default()), form="standardized", fc_hz=80.0, emit_warnings=False
+    )
     return save_design(design, d / "design.json")
 
 
@@ -28,14 +28,18 @@ def test_export_json_and_csv(imil, design_file, tmp_path):
     assert doc["channels"]["H_uz"]["n_integrators"] == 2 and doc["design"]["form"] == "standardized"
     r = imil("export", design_file, "--format", "csv", "-o", "c", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
-    rows = [ln for ln in (tmp_path / "c" / "imil_coefficients.csv").read_text().splitlines()
-            if not ln.startswith("#")]
+    rows = [
+        ln
+        for ln in (tmp_path / "c" / "imil_coefficients.csv").read_text().splitlines()
+        if not ln.startswith("#")
+    ]
     assert rows[0] == "channel,matrix,row,col,value" and len(rows) == 1 + (25 + 5 + 5 + 1) + (9 + 3 + 3 + 1)
 
 
 def test_export_c_and_st_with_vs(imil, design_file, tmp_path):
-    r = imil("export", design_file, "--format", "c", "--vs", "FP2", "--prefix", "rig1", "-o", "c",
-             cwd=tmp_path)
+    r = imil(
+        "export", design_file, "--format", "c", "--vs", "FP2", "--prefix", "rig1", "-o", "c", cwd=tmp_path
+    )
     assert r.returncode == 0, r.stderr
     assert "rig1_mil_step" in (tmp_path / "c" / "rig1.h").read_text()
     r = imil("export", design_file, "--format", "st", "--vs", "LR2", "-o", "s", cwd=tmp_path)

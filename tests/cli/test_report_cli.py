@@ -43,7 +43,7 @@ def images(page: str) -> list[bytes]:
 
 def assert_self_contained(page: str) -> None:
     assert page.startswith("<!DOCTYPE html>") and "<script" not in page
-    assert not re.search(r'(src|href)="(?!data:)', page)          # nothing fetched: only data: URIs
+    assert not re.search(r'(src|href)="(?!data:)', page)  # nothing fetched: only data: URIs
 
 
 def test_report_of_a_mil_run(runs, capsys):
@@ -55,7 +55,14 @@ def test_report_of_a_mil_run(runs, capsys):
     assert_self_contained(page)
     pngs = images(page)
     assert len(pngs) == 3 and all(p.startswith(b"\x89PNG\r\n\x1a\n") and len(p) > 10_000 for p in pngs)
-    for heading in ("Status", "Metrics", "Histories", "Response spectra", "Force-displacement", "Configuration"):
+    for heading in (
+        "Status",
+        "Metrics",
+        "Histories",
+        "Response spectra",
+        "Force-displacement",
+        "Configuration",
+    ):
         assert f"<h2>{heading}</h2>" in page
     assert "<p>completed;" in page
     summary, _ = read_summary(ok)
@@ -73,8 +80,12 @@ def test_stored_vs_model_loop_is_the_spring_damper_force(runs):
     vs = result.config["vs"]
     u, v = result.vs_states[:, 0], result.vs_states[:, 1]
     np.testing.assert_allclose(loop["displacement_in"], u, rtol=0, atol=0)
-    np.testing.assert_allclose(loop["force_lbf"], vs["k_s"] * u + vs["c"] * v,
-                               rtol=1e-9, atol=1e-9 * np.max(np.abs(loop["force_lbf"])))
+    np.testing.assert_allclose(
+        loop["force_lbf"],
+        vs["k_s"] * u + vs["c"] * v,
+        rtol=1e-9,
+        atol=1e-9 * np.max(np.abs(loop["force_lbf"])),
+    )
 
 
 def test_report_of_a_tripped_run_states_the_limit(runs):
@@ -96,7 +107,7 @@ def test_report_of_a_run_file_without_summary_recomputes_metrics(tmp_path):
     assert imil("report", path, "-o", out) == 0
     page = out.read_text()
     assert fmt_number(evaluate_run(load_run(path)).spectral_error_low) in page
-    assert len(images(page)) == 2                                # tracking: no isolator loop
+    assert len(images(page)) == 2  # tracking: no isolator loop
 
 
 @pytest.mark.parametrize("case", ["missing", "not hdf5", "not a run", "exists", "same file"])

@@ -42,14 +42,22 @@ def test_simulate_json_contract_and_metrics_of_the_library(tmp_path, monkeypatch
     code, stdout, _ = imil(monkeypatch, capsys, "simulate", "--pga", "0.4", *SHORT, "-o", out, "--json")
     assert code == 0
     doc = json.loads(stdout)
-    for key in ("simulated_s", "aborted", "abort_reason", "spectral_error_0p25_15hz",
-                "spectral_error_15_50hz", "nrms_error", "peak_table_accel_g"):
+    for key in (
+        "simulated_s",
+        "aborted",
+        "abort_reason",
+        "spectral_error_0p25_15hz",
+        "spectral_error_15_50hz",
+        "nrms_error",
+        "peak_table_accel_g",
+    ):
         assert key in doc
     assert doc["aborted"] is False and doc["abort_reason"] is None and doc["vs"] == "SD2"
     # The same run through the library (same defaults, same seed: the loop is deterministic).
     gm = builtin_motion("elcentro").time_scaled(2.0).scaled_to_pga(0.4).trimmed(0.0, 5.0)
-    ref = run_mil(TableParameters.report_default(), presets.get("SD2"), gm,
-                  specimen=FluidVessel(water_depth_in=36.0))
+    ref = run_mil(
+        TableParameters.report_default(), presets.get("SD2"), gm, specimen=FluidVessel(water_depth_in=36.0)
+    )
     assert doc["spectral_error_0p25_15hz"] == pytest.approx(ref.metrics.spectral_error_low, rel=1e-12)
     assert doc["spectral_error_15_50hz"] == pytest.approx(ref.metrics.spectral_error_high, rel=1e-12)
     assert doc["nrms_error"] == pytest.approx(ref.metrics.nrms_error, rel=1e-12)
@@ -116,44 +124,55 @@ def test_existing_output_needs_overwrite(tmp_path, monkeypatch, capsys):
 @pytest.mark.parametrize("stage", ["lab channels", "command summary"])
 def test_interrupted_write_leaves_nothing_under_the_final_name(tmp_path, monkeypatch, capsys, stage):
     out = tmp_path / "run.h5"
-    out.write_bytes(b"old run")                     # --overwrite: the old file must survive a failed write
+    out.write_bytes(b"old run")  # --overwrite: the old file must survive a failed write
     real_dataset, real_setitem = h5py.Group.create_dataset, h5py.AttributeManager.__setitem__
 
     def full_disk(*args, **kwargs):
         raise OSError(28, "No space left on device")
 
-    if stage == "lab channels":                     # lab.results.save_run writing a channel
-        monkeypatch.setattr(h5py.Group, "create_dataset", lambda self, name, *a, **k: full_disk()
-                            if name == "x" else real_dataset(self, name, *a, **k))
-    else:                                           # save_run writing the command's summary (an extra)
-        monkeypatch.setattr(h5py.AttributeManager, "__setitem__", lambda self, name, value: full_disk()
-                            if name == SUMMARY_ATTR else real_setitem(self, name, value))
+    if stage == "lab channels":  # lab.results.save_run writing a channel
+        monkeypatch.setattr(
+            h5py.Group,
+            "create_dataset",
+            lambda self, name, *a, **k: full_disk() if name == "x" else real_dataset(self, name, *a, **k),
+        )
+    else:  # save_run writing the command's summary (an extra)
+        monkeypatch.setattr(
+            h5py.AttributeManager,
+            "__setitem__",
+            lambda self, name, value: (
+                full_disk() if name == SUMMARY_ATTR else real_setitem(self, name, value)
+            ),
+        )
     code, _, stderr = imil(monkeypatch, capsys, "track", *SHORT, "-o", out, "--overwrite")
     assert code == 2 and "No space left on device" in stderr and len(stderr.strip().splitlines()) == 1
     assert out.read_bytes() == b"old run"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.h5"]     # no temporary file left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.h5"]  # no temporary file left
 
 
-@pytest.mark.parametrize("args, names", [
-    (["simulate", "--set", "Kq=3"], "Kq"),
-    (["simulate", "--vs", "SD9"], "SD9"),
-    (["simulate", "--set-vs", "q_ratio=0.1"], "q_ratio"),
-    (["simulate", "--feedback", "none"], "--feedback"),
-    (["track", "--feedback", "xx"], "--feedback"),
-    (["track", "--specimen", "rigid", "--water-depth", "30"], "--water-depth"),
-    (["track", "--water-depth", "3 kg"], "--water-depth"),
-    (["track", "--specimen", "steel"], "--specimen"),
-    (["track", "--duration", "-1"], "--duration"),
-    (["track", "--fc", "0"], "--fc"),
-    (["track", "--pga", "-0.2"], "pga"),
-    (["track", "--precision", "half"], "--precision"),
-    (["track", "--motion", "BAD_FILE"], "bad.AT2"),
-    (["track", "--motion", "nope.AT2"], "nope.AT2"),
-    (["track", "--table", "nope.toml"], "nope.toml"),
-    (["frf", "--kp-study", "--specimen", "vessel"], "--kp-study"),
-    (["frf", "--kp-study", "--kp-values", "0.001,x"], "--kp-values"),
-    (["frf", "--delay", "late"], "--delay"),
-])
+@pytest.mark.parametrize(
+    "args, names",
+    [
+        (["simulate", "--set", "Kq=3"], "Kq"),
+        (["simulate", "--vs", "SD9"], "SD9"),
+        (["simulate", "--set-vs", "q_ratio=0.1"], "q_ratio"),
+        (["simulate", "--feedback", "none"], "--feedback"),
+        (["track", "--feedback", "xx"], "--feedback"),
+        (["track", "--specimen", "rigid", "--water-depth", "30"], "--water-depth"),
+        (["track", "--water-depth", "3 kg"], "--water-depth"),
+        (["track", "--specimen", "steel"], "--specimen"),
+        (["track", "--duration", "-1"], "--duration"),
+        (["track", "--fc", "0"], "--fc"),
+        (["track", "--pga", "-0.2"], "pga"),
+        (["track", "--precision", "half"], "--precision"),
+        (["track", "--motion", "BAD_FILE"], "bad.AT2"),
+        (["track", "--motion", "nope.AT2"], "nope.AT2"),
+        (["track", "--table", "nope.toml"], "nope.toml"),
+        (["frf", "--kp-study", "--specimen", "vessel"], "--kp-study"),
+        (["frf", "--kp-study", "--kp-values", "0.001,x"], "--kp-values"),
+        (["frf", "--delay", "late"], "--delay"),
+    ],
+)
 def test_bad_input_one_line_exit_2_nothing_written(tmp_path, monkeypatch, capsys, args, names):
     bad = tmp_path / "bad.AT2"
     bad.write_text("PEER NGA STRONG MOTION DATABASE RECORD\nnot a record\n")
@@ -171,11 +190,22 @@ def test_bad_input_one_line_exit_2_nothing_written(tmp_path, monkeypatch, capsys
 def test_specimen_file_and_output_folder_errors(tmp_path, monkeypatch, capsys):
     spec = tmp_path / "mass.toml"
     spec.write_text('[specimen]\ntype = "rigid_mass"\nweight = "2 kip"\n')
-    code, stdout, _ = imil(monkeypatch, capsys, "track", "--specimen", spec, "--pga", "0.3", *SHORT,
-                           "-o", tmp_path / "r.h5", "--json")
+    code, stdout, _ = imil(
+        monkeypatch,
+        capsys,
+        "track",
+        "--specimen",
+        spec,
+        "--pga",
+        "0.3",
+        *SHORT,
+        "-o",
+        tmp_path / "r.h5",
+        "--json",
+    )
     assert code == 0
     doc = json.loads(stdout)
-    assert doc["specimen_weight_lbf"] == pytest.approx(2000.0, rel=1e-12)      # 2 kip
+    assert doc["specimen_weight_lbf"] == pytest.approx(2000.0, rel=1e-12)  # 2 kip
     assert doc["pretest"]["moving_weight_lbf"] == pytest.approx(2000.0 + 4.14 * G0, rel=1e-9)  # + m_st
     spec.write_text('[specimen]\ntype = "rigid_mass"\nweigth = 2000\n')
     code, _, stderr = imil(monkeypatch, capsys, "track", "--specimen", spec, "-o", tmp_path / "s.h5")
@@ -189,8 +219,20 @@ def test_track_feedback_none_drops_u_w_and_tracks_worse(tmp_path, monkeypatch, c
     docs = {}
     for feedback in ("lc", "none"):
         out = tmp_path / f"{feedback}.h5"
-        code, stdout, _ = imil(monkeypatch, capsys, "track", "--water-depth", "42", "--duration", "6",
-                               "--feedback", feedback, "-o", out, "--json")
+        code, stdout, _ = imil(
+            monkeypatch,
+            capsys,
+            "track",
+            "--water-depth",
+            "42",
+            "--duration",
+            "6",
+            "--feedback",
+            feedback,
+            "-o",
+            out,
+            "--json",
+        )
         assert code == 0
         docs[feedback] = json.loads(stdout)
         docs[feedback]["max_u_w"] = float(np.max(np.abs(load_run(out).u_w)))
@@ -201,11 +243,12 @@ def test_track_feedback_none_drops_u_w_and_tracks_worse(tmp_path, monkeypatch, c
 
 def test_frf_identification_and_kp_study(tmp_path, monkeypatch, capsys):
     out = tmp_path / "frf.h5"
-    code, stdout, _ = imil(monkeypatch, capsys, "frf", "--kp-study", "--kp-values", "0.0002,0.001",
-                           "-o", out, "--json")
+    code, stdout, _ = imil(
+        monkeypatch, capsys, "frf", "--kp-study", "--kp-values", "0.0002,0.001", "-o", out, "--json"
+    )
     assert code == 0
     doc = json.loads(stdout)
-    exp = run_frf(TableParameters.report_default())             # same defaults and seed
+    exp = run_frf(TableParameters.report_default())  # same defaults and seed
     ref = exp.identification.parameters
     assert doc["f_oil_hz"] == pytest.approx(ref.f_oil_hz, rel=1e-12)
     assert doc["zeta_oil"] == pytest.approx(ref.zeta_oil, rel=1e-12)
@@ -218,7 +261,7 @@ def test_frf_identification_and_kp_study(tmp_path, monkeypatch, capsys):
     # Sections 4.5.3.1 and 8.3.3: the linear model fits worse at K_p = 0.0002 than at 0.001 V/psi.
     misfit = {row["Kp"]: row["misfit"] for row in doc["kp_study"]}
     assert misfit[0.0002] > misfit[0.001]
-    assert misfit[0.001] == pytest.approx(doc["identification_error"], rel=1e-12)   # same run, same seed
+    assert misfit[0.001] == pytest.approx(doc["identification_error"], rel=1e-12)  # same run, same seed
     with h5py.File(out) as fh:
         assert fh["imil/frf/f_hz"].shape == fh["imil/frf/H_zu_measured"].shape == (512,)
         np.testing.assert_array_equal(fh["imil/kp_study/Kp"][()], [0.0002, 0.001])
@@ -228,23 +271,30 @@ def test_frf_identification_and_kp_study(tmp_path, monkeypatch, capsys):
 def test_frf_trip_keeps_data_exits_3_and_says_so(tmp_path, monkeypatch, capsys):
     # A 3.5 in multisine asks for far more force than A_p (P_s - P_R) = 6300 lbf: an interlock trips.
     out = tmp_path / "frf.h5"
-    code, stdout, stderr = imil(monkeypatch, capsys, "frf", "--peak", "3.5", "--kp-study", "-o", out, "--json")
+    code, stdout, stderr = imil(
+        monkeypatch, capsys, "frf", "--peak", "3.5", "--kp-study", "-o", out, "--json"
+    )
     assert code == EXIT_ABORTED and "interlock" in stderr
     doc = json.loads(stdout)
     assert doc["aborted"] is True and "tripped at t =" in doc["abort_reason"] and doc["file"] == str(out)
     assert "f_oil_hz" not in doc and "model_error_0p25_100hz" not in doc and doc["kp_study"] == []
-    saved = load_run(out)                                   # the data up to the trip are kept
+    saved = load_run(out)  # the data up to the trip are kept
     assert saved.trip is not None and f"{saved.trip.time_s:.4f}" in doc["abort_reason"]
     assert saved.n_samples * saved.loop_time == pytest.approx(doc["simulated_s"], rel=1e-12)
     summary, arrays = read_summary(out)
-    assert summary["aborted"] is True and arrays == {}      # no FRF of a tripped run
+    assert summary["aborted"] is True and arrays == {}  # no FRF of a tripped run
     code, stdout, _ = imil(monkeypatch, capsys, "frf", "--peak", "3.5", "-o", out, "--overwrite")
     assert code == EXIT_ABORTED and "STOPPED" in stdout and "no FRF" in stdout
 
 
 def test_script_entry_point_one_line_error(tmp_path):
     # The installed `imil` script itself (one subprocess): usage error and a bad key.
-    res = subprocess.run([str(IMIL), "simulate", "--set", "Kq=1", "-o", str(tmp_path / "r.h5")],
-                         capture_output=True, text=True, timeout=120, env={**os.environ, "COLUMNS": "80"})
+    res = subprocess.run(
+        [str(IMIL), "simulate", "--set", "Kq=1", "-o", str(tmp_path / "r.h5")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "COLUMNS": "80"},
+    )
     assert res.returncode == 2 and res.stderr.strip().splitlines() == [res.stderr.strip()]
     assert "Kq" in res.stderr and "Traceback" not in res.stderr and not (tmp_path / "r.h5").exists()

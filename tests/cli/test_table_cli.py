@@ -56,21 +56,21 @@ def test_unstable_is_reported_not_an_error():
 
 def test_info_table_file_and_tune(tmp_path):
     f = tmp_path / "t.toml"
-    f.write_text(default_table_path().read_text()
-                 .replace('mass = "4.14 lbf*s**2/in"', 'mass = "1600 lb"'))
+    f.write_text(default_table_path().read_text().replace('mass = "4.14 lbf*s**2/in"', 'mass = "1600 lb"'))
     info = _json(["table", "info", "--table", str(f), "--json"])
     assert info["parameters"]["mass"] == pytest.approx(4.144, abs=0.001)
     tune = _json(["table", "tune", "--json", "--set", "loop_time=0"])
-    assert tune["Ke_limit_analog_Kp0"] == pytest.approx(6.7, abs=0.05)      # Section 4.4.2
+    assert tune["Ke_limit_analog_Kp0"] == pytest.approx(6.7, abs=0.05)  # Section 4.4.2
     assert tune["Kp_breakaway_analog"] == pytest.approx(0.0006, abs=0.00005)  # Section 4.4.3
-    assert tune["Kp_limit"] == pytest.approx(0.0039, abs=0.00005)           # errata (0.0035)
+    assert tune["Kp_limit"] == pytest.approx(0.0039, abs=0.00005)  # errata (0.0035)
 
 
 def test_plots_are_written(tmp_path):
     res = runner.invoke(app, ["table", "bode", "-o", str(tmp_path / "b.png")])
     assert res.exit_code == 0, res.output
-    res = runner.invoke(app, ["table", "rlocus", "--param", "Ke", "--max", "10", "-o",
-                              str(tmp_path / "r.png")])
+    res = runner.invoke(
+        app, ["table", "rlocus", "--param", "Ke", "--max", "10", "-o", str(tmp_path / "r.png")]
+    )
     assert res.exit_code == 0, res.output
     for name in ("b.png", "r.png"):
         assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
@@ -89,8 +89,7 @@ BAD = [
 
 @pytest.mark.parametrize("args, key", [BAD[0], BAD[5]])
 def test_bad_input_one_line_exit_2_subprocess(args, key):
-    res = subprocess.run([str(IMIL), "table", "poles", *args], capture_output=True, text=True,
-                         timeout=60)
+    res = subprocess.run([str(IMIL), "table", "poles", *args], capture_output=True, text=True, timeout=60)
     assert res.returncode == 2
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and key in lines[0] and "Traceback" not in res.stderr

@@ -39,8 +39,9 @@ def test_describe_json_keys_as_in_tables(monkeypatch, capsys):
 
 
 def test_describe_with_units_in_set(monkeypatch, capsys):
-    code, out, _ = _imil(monkeypatch, capsys, "describe", "FP1", "--json", "--set", "m_vs=2150 lb",
-                         "--set", "u_y=1 mm")
+    code, out, _ = _imil(
+        monkeypatch, capsys, "describe", "FP1", "--json", "--set", "m_vs=2150 lb", "--set", "u_y=1 mm"
+    )
     assert code == 0
     data = json.loads(out)
     assert data["W"] == pytest.approx(5750.0)
@@ -57,15 +58,18 @@ def test_describe_file(monkeypatch, capsys, tmp_path):
     assert data["u_y"] == pytest.approx(10 / 25.4)
 
 
-@pytest.mark.parametrize("args, key", [
-    (("describe", "XX1"), "preset"),
-    (("describe", "SD1", "--set", "m_vs=0"), "m_vs"),
-    (("describe", "SD1", "--set", "k_s=-5"), "k_s"),
-    (("describe", "FP1", "--set", "mu_min=0.2"), "mu_min"),
-    (("describe", "LR1", "--set", "u_y=0"), "u_y"),
-    (("describe", "LR1", "--set", "u_y=3 s"), "u_y"),
-    (("describe", "LR1", "--set", "bogus=1"), "bogus"),
-])
+@pytest.mark.parametrize(
+    "args, key",
+    [
+        (("describe", "XX1"), "preset"),
+        (("describe", "SD1", "--set", "m_vs=0"), "m_vs"),
+        (("describe", "SD1", "--set", "k_s=-5"), "k_s"),
+        (("describe", "FP1", "--set", "mu_min=0.2"), "mu_min"),
+        (("describe", "LR1", "--set", "u_y=0"), "u_y"),
+        (("describe", "LR1", "--set", "u_y=3 s"), "u_y"),
+        (("describe", "LR1", "--set", "bogus=1"), "bogus"),
+    ],
+)
 def test_bad_input_exit_2_one_line(monkeypatch, capsys, args, key):
     code, out, err = _imil(monkeypatch, capsys, *args)
     assert code == 2
@@ -75,8 +79,22 @@ def test_bad_input_exit_2_one_line(monkeypatch, capsys, args, key):
 
 def test_loops_writes_png(monkeypatch, capsys, tmp_path):
     target = tmp_path / "loops.png"
-    code, out, _ = _imil(monkeypatch, capsys, "loops", "LR2", "FP2", "-o", str(target), "--json",
-                         "--cycles", "1", "--amplitude", "0.2 g0", "--frequency", "1.0")
+    code, out, _ = _imil(
+        monkeypatch,
+        capsys,
+        "loops",
+        "LR2",
+        "FP2",
+        "-o",
+        str(target),
+        "--json",
+        "--cycles",
+        "1",
+        "--amplitude",
+        "0.2 g0",
+        "--frequency",
+        "1.0",
+    )
     assert code == 0
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     summary = json.loads(out)
@@ -96,8 +114,21 @@ def test_loops_bad_input_writes_nothing(monkeypatch, capsys, tmp_path):
 def test_loops_recorded_motion(monkeypatch, capsys, tmp_path):
     """A built-in record (signals package) held over sub-steps no longer than --dt."""
     target = tmp_path / "elcentro.svg"
-    code, out, _ = _imil(monkeypatch, capsys, "loops", "SD2", "--motion", "elcentro", "--pga", "0.2",
-                         "-o", str(target), "--json", "--dt", "0.001")
+    code, out, _ = _imil(
+        monkeypatch,
+        capsys,
+        "loops",
+        "SD2",
+        "--motion",
+        "elcentro",
+        "--pga",
+        "0.2",
+        "-o",
+        str(target),
+        "--json",
+        "--dt",
+        "0.001",
+    )
     assert code == 0 and target.exists()
     summary = json.loads(out)
     assert summary["dt"] <= 0.001

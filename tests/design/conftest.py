@@ -24,33 +24,58 @@ def closed_form_table(Ke=KE, Kp=KP, tau=TAU, m=MST, d=D) -> TableModel:
     """H_zu and H_zw of Eq 4-15a and 4-15d."""
     g, de, eps = A1 * A2, A1 + A2, 2 * ZETA_OIL * W_OIL
     K = g * d * AP * KV * Ke / m
-    den = [1.0, de + eps, W_OIL**2 + de * eps + g - g * d * KV * Kp * tau,
-           de * W_OIL**2 + g * eps + g * d * KV * Kp, g * W_OIL**2 - K * tau, K]
+    den = [
+        1.0,
+        de + eps,
+        W_OIL**2 + de * eps + g - g * d * KV * Kp * tau,
+        de * W_OIL**2 + g * eps + g * d * KV * Kp,
+        g * W_OIL**2 - K * tau,
+        K,
+    ]
     H_zu = TransferFunction([K, 0.0, 0.0], den)
-    H_zw = TransferFunction(np.array([1.0, de + eps, de * eps + g - g * d * KV * Kp * tau,
-                                      g * eps + g * d * KV * Kp, 0.0, 0.0]) / m, den)
+    H_zw = TransferFunction(
+        np.array([1.0, de + eps, de * eps + g - g * d * KV * Kp * tau, g * eps + g * d * KV * Kp, 0.0, 0.0])
+        / m,
+        den,
+    )
     return TableModel(H_zu, H_zw, tau, {"Ke": Ke, "Kp": Kp, "loop_time": tau, "mass": m, "d": d})
 
 
 def sd_model(m_vs=2000.0 / G0, k=894.0, c=57.0, name="SD2") -> VirtualModel:
     """Eq 5-2 with Table 9.1 values (k_s [lbf/in], c [lbf*s/in], m_vs [lbf*s^2/in])."""
     den = [m_vs, c, k]
-    return VirtualModel(TransferFunction([c, k], den), TransferFunction([1.0, 0.0, 0.0], den),
-                        None, kind="SD", name=name, parameters={"m_vs": m_vs, "k_s": k, "c": c})
+    return VirtualModel(
+        TransferFunction([c, k], den),
+        TransferFunction([1.0, 0.0, 0.0], den),
+        None,
+        kind="SD",
+        name=name,
+        parameters={"m_vs": m_vs, "k_s": k, "c": c},
+    )
 
 
 def lr_model(m_vs=2000.0 / G0, k_i=2353.0, c=0.15, q_d=839.0) -> VirtualModel:
     """Linear part of LR2 (Eq 5-8a, 5-8b; H_zfh with the strength q_d, see test_forms)."""
     den = [m_vs, c, k_i]
-    return VirtualModel(TransferFunction([c, k_i], den), TransferFunction([1.0, 0.0, 0.0], den),
-                        TransferFunction([q_d, 0.0], den), kind="LR", name="LR2")
+    return VirtualModel(
+        TransferFunction([c, k_i], den),
+        TransferFunction([1.0, 0.0, 0.0], den),
+        TransferFunction([q_d, 0.0], den),
+        kind="LR",
+        name="LR2",
+    )
 
 
 def fp_model(m_vs=2150.0 / G0, k_s=187.0) -> VirtualModel:
     """Linear part of FP2 (Eq 5-13)."""
     den = [m_vs, 0.0, k_s]
-    return VirtualModel(TransferFunction([k_s], den), TransferFunction([1.0, 0.0, 0.0], den),
-                        TransferFunction([-1.0, 0.0, 0.0], den), kind="FP", name="FP2")
+    return VirtualModel(
+        TransferFunction([k_s], den),
+        TransferFunction([1.0, 0.0, 0.0], den),
+        TransferFunction([-1.0, 0.0, 0.0], den),
+        kind="FP",
+        name="FP2",
+    )
 
 
 @pytest.fixture(scope="session")

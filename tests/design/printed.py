@@ -20,4 +20,5 @@ def assert_printed(actual, printed: list[str], what: str) -> None:
     assert actual.size == len(printed), f"{what}: {actual.size} coefficients, report prints {len(printed)}"
     for k, (a, text) in enumerate(zip(actual, printed)):
         assert abs(a - float(text)) <= half_unit(text) * (1 + 1e-9), (
-            f"{what}[{k}]: computed {a:.6g}, printed {text} (+-{half_unit(text):.2g})")
+            f"{what}[{k}]: computed {a:.6g}, printed {text} (+-{half_unit(text):.2g})"
+        )

@@ -21,7 +21,7 @@ def test_linear_table_equals_eq_4_15_closed_form(table):
 
 def test_sd2_preset_equals_eq_5_2_with_table_9_1():
     vm = virtual_model(presets.get("SD2"), "SD2")
-    ref = sd_model()   # k_s = 894, c = 57 as printed (the preset computes 894.7, 56.96)
+    ref = sd_model()  # k_s = 894, c = 57 as printed (the preset computes 894.7, 56.96)
     for a, b in ((vm.H_zw, ref.H_zw), (vm.H_zag, ref.H_zag)):
         np.testing.assert_allclose(a.frequency_response(F), b.frequency_response(F), rtol=2e-3)
     assert vm.kind == "SD" and vm.H_zfh is None

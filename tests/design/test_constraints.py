@@ -3,17 +3,20 @@
 import numpy as np
 import pytest
 
-from impedance_mil.design import (DesignCriteria, design_controller, delay_model_tolerance_deg,
-                                  passivity)
+from impedance_mil.design import DesignCriteria, delay_model_tolerance_deg, design_controller, passivity
 from impedance_mil.design.passivity import is_passive_stable
 from impedance_mil.errors import DesignWarning
 from impedance_mil.systems import TransferFunction
 
-from .conftest import sd_model, MST
+from .conftest import MST, sd_model
 
 # Table 9.5: SD2 with m_vs = 1.25 m_st, Ke = 5 V/in, Kp = 0.001 V/psi, tau = 500 us.
-TABLE_9_5 = {1000.0: (True, False, True), 250.0: (True, True, True),
-             100.0: (True, True, True), 50.0: (False, True, False)}
+TABLE_9_5 = {
+    1000.0: (True, False, True),
+    250.0: (True, True, True),
+    100.0: (True, True, True),
+    50.0: (False, True, False),
+}
 
 
 def test_table_9_5(table):
@@ -55,7 +58,7 @@ def test_bare_table_is_marginally_non_passive_within_tolerance(table):
     r = passivity(H, (0.01, 1000.0), table.loop_time_s)
     assert -0.3 < r.margin_deg < -0.15 and 85 < r.worst_hz < 115
     assert r.passive and r.tolerant_margin_deg >= 0
-    assert not passivity(H, (0.01, 1000.0), 0.0).passive    # without the model tolerance it fails
+    assert not passivity(H, (0.01, 1000.0), 0.0).passive  # without the model tolerance it fails
 
 
 def test_passivity_of_known_systems():
@@ -81,7 +84,7 @@ def test_passivity_of_known_systems():
 def test_extra_tolerance_and_band_are_user_settable(table, sd2):
     strict = DesignCriteria(band_hz=(0.25, 30.0))
     d = design_controller(table, sd2, fc_hz=80.0, criteria=strict, emit_warnings=False)
-    assert not d.constraints[0].I    # 80 Hz no longer meets I up to 30 Hz
+    assert not d.constraints[0].I  # 80 Hz no longer meets I up to 30 Hz
     loose = DesignCriteria(passivity_extra_tolerance_deg=5.0)
     d = design_controller(table, sd2, fc_hz=50.0, criteria=loose, emit_warnings=False)
     assert d.constraints[0].III

@@ -37,6 +37,7 @@ def test_tf_algebra_poles_match_state_space(table):
     # SD2 controlled table at 80 Hz with the vessel at 36 in: the polynomial route and the
     # state-space route agree on every pole to 1e-6 relative (|p| up to ~6000 rad/s).
     from impedance_mil.design import controlled_table, design_controller
+
     vs = sd_model(m_vs=1.25 * MST)
     d = design_controller(table, vs, fc_hz=80.0, emit_warnings=False)
     H_c = controlled_table(table, vs, d.H_uz, d.H_uw, "standardized").H_c
@@ -53,11 +54,17 @@ def test_mass_study_passivity_versus_coupled_stability(table):
     # nominal linear model coupled with the vessel stays stable even at 0.4 m_st, so the experimental
     # threshold lies between the two (docs/design.md, "Basemat-mass study").
     specimens = {f"vessel {d} in": FluidVessel(d).impedance() for d in (0, 18, 30, 42)}
-    cases = mass_ratio_study(table, lambda m: sd_model(m_vs=m), [1.25, 0.9, 0.7, 0.4], [80.0],
-                             design_fc_hz=80.0, specimens=specimens)
+    cases = mass_ratio_study(
+        table,
+        lambda m: sd_model(m_vs=m),
+        [1.25, 0.9, 0.7, 0.4],
+        [80.0],
+        design_fc_hz=80.0,
+        specimens=specimens,
+    )
     passive = [c.at_design_fc.III for c in cases]
     assert passive == [True, False, False, False]
-    assert cases[2].at_design_fc.passivity_margin_deg < -10.0         # 0.7 m_st: far from passive
+    assert cases[2].at_design_fc.passivity_margin_deg < -10.0  # 0.7 m_st: far from passive
     for c in cases:
         assert [x.specimen for x in c.coupled] == list(specimens)
         assert all(x.stable for x in c.coupled)

@@ -3,13 +3,18 @@
 import numpy as np
 import pytest
 
-from impedance_mil.design import (TableModel, VirtualModel, controlled_table, design_controller,
-                                  ideal_controller)
+from impedance_mil.design import (
+    TableModel,
+    VirtualModel,
+    controlled_table,
+    design_controller,
+    ideal_controller,
+)
 from impedance_mil.design.filters import LowpassFilter
 from impedance_mil.errors import ConfigError, UnstableDesignError, UnstableSystemError
 from impedance_mil.systems import TransferFunction
 
-from .conftest import AP, D, KE, KP, KV, ZETA_OIL, W_OIL, closed_form_table, fp_model, lr_model
+from .conftest import AP, KE, KP, KV, W_OIL, ZETA_OIL, D, closed_form_table, fp_model, lr_model
 from .printed import assert_printed, half_unit
 
 F_LOW = np.logspace(-1, 1.5, 60)  # 0.1-31.6 Hz
@@ -115,7 +120,7 @@ def test_bad_designs_are_refused(table, sd2):
         with pytest.raises(ConfigError, match="fc"):
             design_controller(table, sd2, fc_hz=fc)
     with pytest.raises(UnstableSystemError):
-        design_controller(closed_form_table(Kp=0.02), sd2, fc_hz=80.0)   # unstable table loop
+        design_controller(closed_form_table(Kp=0.02), sd2, fc_hz=80.0)  # unstable table loop
     rhp = TableModel(TransferFunction([1.0, -5.0], [1.0, 3.0, 2.0]), table.H_zw, table.loop_time_s)
     with pytest.raises(UnstableDesignError, match="right-half-plane zero"):
         design_controller(rhp, sd2, fc_hz=80.0)
@@ -126,4 +131,4 @@ def test_bad_designs_are_refused(table, sd2):
     with pytest.raises(UnstableDesignError, match="unstable pole"):
         design_controller(table, unstable, form="general", fc_hz=80.0)
     with pytest.raises(ConfigError, match="form"):
-        design_controller(table, sd2, form="vs-specific", fc_hz=80.0)   # SD has no f_h
+        design_controller(table, sd2, form="vs-specific", fc_hz=80.0)  # SD has no f_h

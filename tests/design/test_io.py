@@ -11,13 +11,14 @@ from impedance_mil.errors import DataFileError
 
 @pytest.fixture(scope="module")
 def design(table, sd2):
-    return design_controller(table, sd2, form="standardized", fc_hz=80.0, evaluate_fc_hz=[100.0],
-                             emit_warnings=False)
+    return design_controller(
+        table, sd2, form="standardized", fc_hz=80.0, evaluate_fc_hz=[100.0], emit_warnings=False
+    )
 
 
 def test_round_trip(tmp_path, design):
     path = save_design(design, tmp_path / "design.json")
-    assert [p.name for p in tmp_path.iterdir()] == ["design.json"]   # no temporary left behind
+    assert [p.name for p in tmp_path.iterdir()] == ["design.json"]  # no temporary left behind
     back = load_design(path)
     assert back.form == "standardized" and back.reference == "z_vs" and back.fc_hz == 80.0
     assert back.H_uz.isclose(design.H_uz, rtol=1e-15) and back.H_uw.isclose(design.H_uw, rtol=1e-15)
@@ -29,13 +30,16 @@ def test_round_trip(tmp_path, design):
     assert doc["vs"]["kind"] == "SD" and doc["table"]["Ke"] == 5.0
 
 
-@pytest.mark.parametrize("change, message", [
-    (lambda d: d.update(format="other"), "not an impedance-mil design file"),
-    (lambda d: d.update(version=2), "version 2"),
-    (lambda d: d.pop("H_uw"), "missing field 'H_uw'"),
-    (lambda d: d.update(H_uz={"num": [1, 2, 3], "den": [1]}), "improper"),
-    (lambda d: d.update(H_uz={"num": "x"}), "malformed"),
-])
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (lambda d: d.update(format="other"), "not an impedance-mil design file"),
+        (lambda d: d.update(version=2), "version 2"),
+        (lambda d: d.pop("H_uw"), "missing field 'H_uw'"),
+        (lambda d: d.update(H_uz={"num": [1, 2, 3], "den": [1]}), "improper"),
+        (lambda d: d.update(H_uz={"num": "x"}), "malformed"),
+    ],
+)
 def test_bad_files_are_refused(tmp_path, design, change, message):
     doc = design_to_dict(design)
     change(doc)

@@ -22,8 +22,20 @@ from impedance_mil.systems import TransferFunction
 TWO_PI = 2.0 * math.pi
 
 #: Table 4.1 (with d = 1e5), report units.
-TABLE_4_1 = dict(Ke=5.0, Kp=0.001, Kv=3.0, tau=500e-6, Ap=2.1, xm=3.2, m=4.14, d=1e5,
-                 a1=TWO_PI * 70.0, a2=TWO_PI * 110.0, zeta=0.09, w_oil=TWO_PI * 27.0)
+TABLE_4_1 = dict(
+    Ke=5.0,
+    Kp=0.001,
+    Kv=3.0,
+    tau=500e-6,
+    Ap=2.1,
+    xm=3.2,
+    m=4.14,
+    d=1e5,
+    a1=TWO_PI * 70.0,
+    a2=TWO_PI * 110.0,
+    zeta=0.09,
+    w_oil=TWO_PI * 27.0,
+)
 
 LOOP_TIME_S = 500e-6
 FC_HZ = 80.0
@@ -36,15 +48,28 @@ def table_tfs(p=TABLE_4_1):
     eps = 2.0 * p["zeta"] * p["w_oil"]
     w2 = p["w_oil"] ** 2
     k0 = gamma * p["d"] * p["Ap"] * p["Kv"] * p["Ke"] / p["m"]
-    den = [1.0, delta + eps,
-           w2 + delta * eps + gamma - gamma * p["d"] * p["Kv"] * p["Kp"] * p["tau"],
-           delta * w2 + gamma * eps + gamma * p["d"] * p["Kv"] * p["Kp"],
-           gamma * w2 - k0 * p["tau"],
-           k0]
+    den = [
+        1.0,
+        delta + eps,
+        w2 + delta * eps + gamma - gamma * p["d"] * p["Kv"] * p["Kp"] * p["tau"],
+        delta * w2 + gamma * eps + gamma * p["d"] * p["Kv"] * p["Kp"],
+        gamma * w2 - k0 * p["tau"],
+        k0,
+    ]
     h_zu = TransferFunction([k0, 0.0, 0.0], den)
-    num_zw = np.array([1.0, delta + eps,
-                       delta * eps + gamma - gamma * p["d"] * p["Kv"] * p["Kp"] * p["tau"],
-                       gamma * eps + gamma * p["d"] * p["Kv"] * p["Kp"], 0.0, 0.0]) / p["m"]
+    num_zw = (
+        np.array(
+            [
+                1.0,
+                delta + eps,
+                delta * eps + gamma - gamma * p["d"] * p["Kv"] * p["Kp"] * p["tau"],
+                gamma * eps + gamma * p["d"] * p["Kv"] * p["Kp"],
+                0.0,
+                0.0,
+            ]
+        )
+        / p["m"]
+    )
     h_zw = TransferFunction(num_zw, den)
     return h_zu, h_zw
 

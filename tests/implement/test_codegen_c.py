@@ -18,9 +18,15 @@ from .conftest import FC_HZ, LOOP_TIME_S, broadband_record
 
 GCC_FLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic", "-fPIC", "-shared"]
 #: (prefix, precision, VS preset or None) of every variant compiled, once per session.
-VARIANTS = [("ctl_f", "single", None), ("ctl_d", "double", None),
-            ("sd_d", "double", "SD2"), ("lr_d", "double", "LR2"), ("fp_d", "double", "FP2"),
-            ("sd_f", "single", "SD2"), ("fp_f", "single", "FP2")]
+VARIANTS = [
+    ("ctl_f", "single", None),
+    ("ctl_d", "double", None),
+    ("sd_d", "double", "SD2"),
+    ("lr_d", "double", "LR2"),
+    ("fp_d", "double", "FP2"),
+    ("sd_f", "single", "SD2"),
+    ("fp_f", "single", "FP2"),
+]
 
 pytestmark = pytest.mark.skipif(shutil.which("gcc") is None, reason="gcc not available")
 
@@ -40,8 +46,9 @@ def clib(discrete, tmp_path_factory):
         render_c(discrete, precision, prefix, vs=vs).write(d)
         sources.append(str(d / f"{prefix}.c"))
     lib = d / "libimil_test.so"
-    subprocess.run(["gcc", *GCC_FLAGS, "-o", str(lib), *sources, "-lm"], check=True,
-                   capture_output=True, text=True)
+    subprocess.run(
+        ["gcc", *GCC_FLAGS, "-o", str(lib), *sources, "-lm"], check=True, capture_output=True, text=True
+    )
     return ctypes.CDLL(str(lib))
 
 
@@ -64,7 +71,7 @@ def _c_run(lib, prefix, precision, a, b, mil=False):
 
 @pytest.fixture(scope="module")
 def long_record():
-    _, a = broadband_record(duration_s=10.0)      # 20,000 loops
+    _, a = broadband_record(duration_s=10.0)  # 20,000 loops
     return a, -9.3 * a + 25.0
 
 
@@ -102,8 +109,7 @@ def test_mil_step_double_matches_runtime(clib, discrete, long_record, prefix, pr
 
 
 @pytest.mark.parametrize("prefix,preset", [("sd_f", "SD2"), ("fp_f", "FP2")])
-def test_mil_step_single_matches_runtime_within_float_rounding(clib, discrete, long_record,
-                                                               prefix, preset):
+def test_mil_step_single_matches_runtime_within_float_rounding(clib, discrete, long_record, prefix, preset):
     # In single precision the C code evaluates the VS in float while the runtime's VS
     # kernel rounds its float32 states but evaluates stages with float64 constants;
     # the controller part is identical.  Tolerance over 20,000 loops (float32 eps is 6e-8;

@@ -25,7 +25,7 @@ def discrete(controller_tfs):
 
 @pytest.fixture(scope="module")
 def record():
-    _, a = broadband_record(duration_s=1.0)          # 2,000 loops
+    _, a = broadband_record(duration_s=1.0)  # 2,000 loops
     return a, -9.3 * a + 25.0
 
 
@@ -41,21 +41,26 @@ class STBlock:
     def __init__(self, text: str, block: str, prefix: str, dtype):
         src = re.search(rf"FUNCTION_BLOCK {block}\n(.*?)END_FUNCTION_BLOCK", text, re.S).group(1)
         src = re.sub(r"\(\*.*?\*\)", "", src, flags=re.S)
-        self.env = {"R": dtype, "POW": np.power, "EXP": np.exp, "abs": abs,
-                    "SIGN": lambda v: dtype(np.sign(v))}
+        self.env = {
+            "R": dtype,
+            "POW": np.power,
+            "EXP": np.exp,
+            "abs": abs,
+            "SIGN": lambda v: dtype(np.sign(v)),
+        }
         self.dtype = dtype
         for name, n, init in re.findall(
-                r"^\s*(\w+) : (?:ARRAY\[0\.\.(\d+)\] OF )?L?REAL(?: := ([^;]+))?;", src, re.M):
+            r"^\s*(\w+) : (?:ARRAY\[0\.\.(\d+)\] OF )?L?REAL(?: := ([^;]+))?;", src, re.M
+        ):
             self.env[name] = np.zeros(int(n) + 1, dtype) if n else dtype(float(init or 0.0))
-        body = src[src.rindex("END_VAR") + len("END_VAR"):]
+        body = src[src.rindex("END_VAR") + len("END_VAR") :]
         lines = []
         for stmt in (s.strip() for s in body.split(";")):
             if not stmt:
                 continue
             lhs, rhs = stmt.split(":=")
             rhs = re.sub(r"(?<![\w.])(\d+\.\d+(?:E-?\d+)?)", r"R(\1)", rhs)
-            rhs = (rhs.replace("ABS(", "abs(").replace("EXPT(", "POW(")
-                   .replace(f"{prefix}_sign(", "SIGN("))
+            rhs = rhs.replace("ABS(", "abs(").replace("EXPT(", "POW(").replace(f"{prefix}_sign(", "SIGN(")
             lines.append(f"{lhs.strip()} = {rhs.strip()}")
         self.code = compile("\n".join(lines), block, "exec")
 
@@ -118,8 +123,7 @@ def test_st_controller_computes_what_the_runtime_computes(discrete, record, prec
 def test_st_mil_block_matches_runtime(discrete, record, preset):
     # Double precision; numpy's exp/pow vs LLVM/libm may differ in the last bit -> 1e-12 of peak.
     vs = presets.get(preset)
-    fb = STBlock(render_st(discrete, "double", "imil", vs=vs)["imil.st"], "imil_mil", "imil",
-                 np.float64)
+    fb = STBlock(render_st(discrete, "double", "imil", vs=vs)["imil.st"], "imil_mil", "imil", np.float64)
     a_g, w = record
     out = np.array([[fb(a_g=a, w=f)["u"], fb.env["z_vs"]] for a, f in zip(a_g, w)])
     tr = MILRuntime(discrete, vs=vs, precision="double").run_mil(a_g, w)

@@ -28,7 +28,7 @@ def elcentro_60s():
     """El Centro RSN 6 at the loop time, zero-padded to 60 s [in/s**2]."""
     m = builtin_motion("elcentro").resampled(LOOP_TIME_S)
     a = np.zeros(int(round(60.0 / LOOP_TIME_S)))
-    a[:m.npts] = m.accel[: a.size]
+    a[: m.npts] = m.accel[: a.size]
     return a
 
 
@@ -58,8 +58,7 @@ def test_realization_equals_pole_zero_map(tustin):
     # Independent path: the z-plane zpk product vs the cascade (A, B, C, D); float64 rounding.
     f = np.linspace(0.1, 900.0, 301)
     for ch in tustin.channels:
-        np.testing.assert_allclose(ch.frequency_response(f), ch.zpk.frequency_response(f),
-                                   rtol=1e-9)
+        np.testing.assert_allclose(ch.frequency_response(f), ch.zpk.frequency_response(f), rtol=1e-9)
 
 
 def test_tustin_matches_continuous_below_fc(tustin, controller_tfs):
@@ -74,8 +73,7 @@ def test_tustin_matches_continuous_below_fc(tustin, controller_tfs):
 def test_prewarping_is_exact_at_fc(controller_tfs):
     dc = discretize(*controller_tfs, LOOP_TIME_S, fc_hz=FC_HZ, prewarp_hz=FC_HZ)
     for ch, h in zip(dc.channels, controller_tfs):
-        np.testing.assert_allclose(ch.frequency_response([FC_HZ]), h.frequency_response([FC_HZ]),
-                                   rtol=1e-9)
+        np.testing.assert_allclose(ch.frequency_response([FC_HZ]), h.frequency_response([FC_HZ]), rtol=1e-9)
 
 
 def test_zoh_preserves_step_response_of_h_uw(controller_tfs):
@@ -93,11 +91,13 @@ def test_zoh_preserves_step_response_of_h_uw(controller_tfs):
 def test_matched_maps_poles_by_exponential(controller_tfs):
     dc = discretize(*controller_tfs, LOOP_TIME_S, method="matched", fc_hz=FC_HZ)
     p_s = controller_tfs[1].poles()
-    np.testing.assert_allclose(np.sort_complex(dc.w.zpk.poles),
-                               np.sort_complex(np.exp(p_s * LOOP_TIME_S)), rtol=1e-12)
+    np.testing.assert_allclose(
+        np.sort_complex(dc.w.zpk.poles), np.sort_complex(np.exp(p_s * LOOP_TIME_S)), rtol=1e-12
+    )
     # Gain matched at 1 Hz (module default): exact there.
-    np.testing.assert_allclose(np.abs(dc.w.frequency_response([1.0])),
-                               np.abs(controller_tfs[1].frequency_response([1.0])), rtol=1e-9)
+    np.testing.assert_allclose(
+        np.abs(dc.w.frequency_response([1.0])), np.abs(controller_tfs[1].frequency_response([1.0])), rtol=1e-9
+    )
 
 
 def _peak_error(dc, a, precision_pair=("single", "double"), compensated=True, w_gain=-9.3):
@@ -139,10 +139,9 @@ def test_leak_bounds_the_drift_of_a_constant_acceleration(controller_tfs):
     ones = np.ones(n)
     exact = MILRuntime(discretize(*controller_tfs, LOOP_TIME_S, fc_hz=FC_HZ), precision="double")
     u = exact.run(ones, np.zeros(n))
-    assert u[-1] == pytest.approx(0.5 * 60.0 ** 2, rel=0.01)
+    assert u[-1] == pytest.approx(0.5 * 60.0**2, rel=0.01)
     f_l = 0.05
-    leaky = MILRuntime(discretize(*controller_tfs, LOOP_TIME_S, fc_hz=FC_HZ, leak_hz=f_l),
-                       precision="double")
+    leaky = MILRuntime(discretize(*controller_tfs, LOOP_TIME_S, fc_hz=FC_HZ, leak_hz=f_l), precision="double")
     u_l = leaky.run(ones, np.zeros(n))
     assert u_l[-1] == pytest.approx(1.0 / (2 * math.pi * f_l) ** 2, rel=0.01)
 
@@ -155,7 +154,7 @@ def test_leak_imitation_error_closed_form(controller_tfs):
     f = np.array([0.2, 0.5, 1.0, 3.0])
     ratio = h_l.frequency_response(f) / h_uz.frequency_response(f)
     np.testing.assert_allclose(np.angle(ratio), 2 * np.arctan(f_l / f), rtol=1e-6)
-    np.testing.assert_allclose(np.abs(ratio), f ** 2 / (f ** 2 + f_l ** 2), rtol=1e-6)
+    np.testing.assert_allclose(np.abs(ratio), f**2 / (f**2 + f_l**2), rtol=1e-6)
 
 
 def test_bad_inputs(controller_tfs):

@@ -22,8 +22,10 @@ from impedance_mil.virtual.kernels import PARAM_NAMES
 
 
 def _c_constants(text: str) -> dict[str, float]:
-    return {m[1]: float(m[2].rstrip("f"))
-            for m in re.finditer(r"static const \w+ imil_vs_(\w+) = ([-+0-9.eE]+f?);", text)}
+    return {
+        m[1]: float(m[2].rstrip("f"))
+        for m in re.finditer(r"static const \w+ imil_vs_(\w+) = ([-+0-9.eE]+f?);", text)
+    }
 
 
 def _st_constants(text: str) -> dict[str, float]:
@@ -32,8 +34,7 @@ def _st_constants(text: str) -> dict[str, float]:
 
 # Each parameter of each kind, with a changed value (internal units) that keeps the
 # VS valid (LR alpha < 1, FP mu_min <= mu_max).
-_CASES = [(name, f.name) for name in ("SD2", "LR2", "FP2")
-          for f in dataclasses.fields(presets.get(name))]
+_CASES = [(name, f.name) for name in ("SD2", "LR2", "FP2") for f in dataclasses.fields(presets.get(name))]
 
 
 @pytest.mark.parametrize("name,key", _CASES)
@@ -45,8 +46,11 @@ def test_every_vs_parameter_set_at_design_reaches_c_and_st(imil, tmp_path, name,
     expected_vs = presets.get(name, **{key: value})
     expected = dict(zip(PARAM_NAMES[expected_vs.kind_code], expected_vs.parameter_array()))
     stock = dict(zip(PARAM_NAMES[base.kind_code], base.parameter_array()))
-    for fmt, reader, prec in (("c", _c_constants, "double"), ("st", _st_constants, "double"),
-                              ("c", _c_constants, "single")):
+    for fmt, reader, prec in (
+        ("c", _c_constants, "double"),
+        ("st", _st_constants, "double"),
+        ("c", _c_constants, "single"),
+    ):
         out = tmp_path / f"{fmt}-{prec}"
         r = imil("export", "d.json", "--format", fmt, "--precision", prec, "-o", out, cwd=tmp_path)
         assert r.returncode == 0, r.stderr
@@ -88,7 +92,7 @@ def test_design_vs_that_cannot_be_rendered_exactly_is_refused(imil, tmp_path):
     assert imil("design", "--vs", "FP2", "-o", "d.json", cwd=tmp_path).returncode == 0
     doc = json.loads((tmp_path / "d.json").read_text())
     stale = json.loads(json.dumps(doc))
-    stale["vs"]["parameters"]["W"] = 9999.0          # derived: the parameters give 5600 lbf
+    stale["vs"]["parameters"]["W"] = 9999.0  # derived: the parameters give 5600 lbf
     assert "parameters.W" in _refused(imil, tmp_path, stale)
     unknown = json.loads(json.dumps(doc))
     unknown["vs"]["kind"] = "XX"
@@ -100,8 +104,9 @@ def test_design_vs_that_cannot_be_rendered_exactly_is_refused(imil, tmp_path):
 
 
 def test_design_without_vs_exports_requested_vs_with_a_note(imil, tmp_path):
-    design = design_controller(table_model(TableParameters.report_default()), form="standardized",
-                               fc_hz=80.0, emit_warnings=False)
+    design = design_controller(
+        table_model(TableParameters.report_default()), form="standardized", fc_hz=80.0, emit_warnings=False
+    )
     save_design(design, tmp_path / "d.json")
     r = imil("export", "d.json", "--vs", "SD3", "-o", "c", cwd=tmp_path)
     assert r.returncode == 0 and "not checked" in r.stdout

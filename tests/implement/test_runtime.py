@@ -26,6 +26,7 @@ def record():
 
 def _numpy_reference(m_z, m_w, z, w, dtype):
     """Independent scalar re-implementation of the documented operation order in ``dtype``."""
+
     def out(m, x, v):
         n = x.size
         y = m[n, n] * v
@@ -108,7 +109,7 @@ def test_step6_listing_as_printed_ignores_w(controller, record):
     ch = controller.w
     x = np.zeros(controller.z.n_states)
     printed = []
-    for zz, ww in zip(zero, w):    # the printed listing, with z_vs = 0
+    for zz, _ww in zip(zero, w):  # the printed listing, with z_vs = 0
         g_row = np.zeros(controller.z.n_states)
         g_row[: ch.n_states] = ch.C
         printed.append(g_row @ x + ch.D * zz)

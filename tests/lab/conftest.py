@@ -24,13 +24,16 @@ def eq_4_14b(p):
     a1, a2 = (2 * np.pi * f for f in p.valve_poles_hz)
     gam, dlt, eps = a1 * a2, a1 + a2, 2 * p.zeta_oil * w
     m, area = p.mass, p.piston_area
-    A = np.array([
-        [0, 1, 0, 0, 0],
-        [0, 0, area / m, 0, 0],
-        [0, -w ** 2 * m / area, -eps, p.d, 0],
-        [0, 0, 0, 0, 1],
-        [-p.Kv * p.Ke * gam, 0, -p.Kv * p.Kp * gam, -gam, -dlt],
-    ], dtype=float)
+    A = np.array(
+        [
+            [0, 1, 0, 0, 0],
+            [0, 0, area / m, 0, 0],
+            [0, -(w**2) * m / area, -eps, p.d, 0],
+            [0, 0, 0, 0, 1],
+            [-p.Kv * p.Ke * gam, 0, -p.Kv * p.Kp * gam, -gam, -dlt],
+        ],
+        dtype=float,
+    )
     B_u = np.array([0, 0, 0, 0, p.Kv * p.Ke * gam], dtype=float)
     B_w = np.array([0, 1 / m, 0, 0, 0], dtype=float)
     return A, B_u, B_w

@@ -89,17 +89,20 @@ def linear_table(p) -> NonlinearTable:
     """
     base = NonlinearTable.from_linear(p, dead_volume=1.0e4, friction=Friction.none())
     supply = 100.0 * base.supply_pressure
-    gain = (base.flow_gain * orifice(0.5 * base.supply_pressure, base.laminar_pressure)
-            / orifice(0.5 * supply, base.laminar_pressure))
-    return replace(base, supply_pressure=supply, flow_gain=gain, valve_command_limit=1.0e9,
-                   spool_limit=1.0e9)
+    gain = (
+        base.flow_gain
+        * orifice(0.5 * base.supply_pressure, base.laminar_pressure)
+        / orifice(0.5 * supply, base.laminar_pressure)
+    )
+    return replace(base, supply_pressure=supply, flow_gain=gain, valve_command_limit=1.0e9, spool_limit=1.0e9)
 
 
 @pytest.fixture(scope="module")
 def tracking(p):
     """Tracking runs of GM1 at 0.8 g for the empty vessel and 30 in of water."""
-    return {depth: run_tracking(p, gm1(0.8), specimen=FluidVessel(water_depth_in=depth))
-            for depth in (0.0, 30.0)}
+    return {
+        depth: run_tracking(p, gm1(0.8), specimen=FluidVessel(water_depth_in=depth)) for depth in (0.0, 30.0)
+    }
 
 
 @pytest.mark.parametrize("depth", [0.0, 30.0])
@@ -112,8 +115,11 @@ def test_tracking_gm1_mean_psa_error(tracking, depth):
     assert curve(r.run, TRACKING_BAND_HZ).mean_abs < 0.08
 
 
-@pytest.mark.xfail(strict=True, reason="design residual (1 - H_w^filter) and orifice law at "
-                   "0.8 g: max 18.1 % (empty) / 22.0 % (30 in) at 11-15 Hz; module docstring")
+@pytest.mark.xfail(
+    strict=True,
+    reason="design residual (1 - H_w^filter) and orifice law at "
+    "0.8 g: max 18.1 % (empty) / 22.0 % (30 in) at 11-15 Hz; module docstring",
+)
 @pytest.mark.parametrize("depth", [0.0, 30.0])
 def test_tracking_gm1_pointwise_within_15_percent(tracking, depth):
     # The issue's acceptance bound, frequency by frequency.
@@ -139,8 +145,9 @@ def test_tracking_interaction_residual_matches_closed_form(p):
     # (linearized table, ideal sensors, discrete float32 controller), driven
     # by a multisine a_g (0.05 g peak, 150 lines 2-40 Hz), matches it within
     # 3 % over 2-20 Hz (measured 1.6 %); both peak ~14-15 % high near 13 Hz.
-    ms = design_multisine(peak=0.05 * G0, f_min_hz=2.0, f_max_hz=40.0, n_lines=150,
-                          n_points=8192, n_periods=3, iterations=20)
+    ms = design_multisine(
+        peak=0.05 * G0, f_min_hz=2.0, f_max_hz=40.0, n_lines=150, n_points=8192, n_periods=3, iterations=20
+    )
     motion = GroundMotion(ms.time_step, ms.signal, name="multisine")
     vessel = FluidVessel(water_depth_in=0.0)
     r = run_tracking(p, motion, specimen=vessel, sensors=ideal_sensors(), table=linear_table(p))
@@ -149,8 +156,11 @@ def test_tracking_interaction_residual_matches_closed_form(p):
     design = design_controller(table_model(p), form="tracking", fc_hz=80.0, emit_warnings=False)
     lt = LinearTable(p, delay="first-order")
     h_zu, h_zw = lt.tf("z", "u").frequency_response(f), lt.tf("z", "w").frequency_response(f)
-    closed = (h_zu * design.H_uz.frequency_response(f)
-              / (1.0 + vessel.rigid_mass * (h_zu * design.H_uw.frequency_response(f) + h_zw)))
+    closed = (
+        h_zu
+        * design.H_uz.frequency_response(f)
+        / (1.0 + vessel.rigid_mass * (h_zu * design.H_uw.frequency_response(f) + h_zw))
+    )
     band = f <= 20.0
     assert np.max(np.abs(frf.response[band] / closed[band] - 1.0)) < 0.03
     assert 1.13 < np.max(np.abs(closed[band])) < 1.17
@@ -164,8 +174,9 @@ def test_tracking_error_at_0p8g_is_the_orifice_law(p):
     # 0.6 %).  Friction, stroke-dependent volumes and saturation alone change
     # the error by < 1.2 points (docs/lab.md, section 6), so it is the orifice law.
     nonlinear = curve(run_tracking(p, gm1(0.8), sensors=ideal_sensors()).run, TRACKING_BAND_HZ)
-    linear = curve(run_tracking(p, gm1(0.8), sensors=ideal_sensors(), table=linear_table(p)).run,
-                   TRACKING_BAND_HZ)
+    linear = curve(
+        run_tracking(p, gm1(0.8), sensors=ideal_sensors(), table=linear_table(p)).run, TRACKING_BAND_HZ
+    )
     assert linear.max_abs < 0.01
     assert nonlinear.max_abs > 0.12
     assert nonlinear.worst_frequency_hz > 10.0
@@ -179,8 +190,10 @@ def mil(p):
     interlock (docs/errata.md); 0.6 g is GM2's level.
     """
     vessel = FluidVessel.report_default()
-    return {name: run_mil(p, presets.get(name), gm1(pga), specimen=vessel)
-            for name, pga in (("SD2", 0.6), ("LR2", 0.8), ("FP2", 0.8))}
+    return {
+        name: run_mil(p, presets.get(name), gm1(pga), specimen=vessel)
+        for name, pga in (("SD2", 0.6), ("LR2", 0.8), ("FP2", 0.8))
+    }
 
 
 @pytest.mark.parametrize("name", ["SD2", "LR2", "FP2"])
@@ -192,11 +205,19 @@ def test_mil_gm1_mean_psa_error(mil, name):
     assert curve(r.run, MIL_BAND_HZ).mean_abs < 0.08
 
 
-@pytest.mark.parametrize("name", [
-    "SD2",
-    pytest.param("LR2", marks=pytest.mark.xfail(
-        strict=True, reason="20.7 % at 4.3 Hz from the table's nonlinearity (14.2 % without)")),
-    "FP2"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "SD2",
+        pytest.param(
+            "LR2",
+            marks=pytest.mark.xfail(
+                strict=True, reason="20.7 % at 4.3 Hz from the table's nonlinearity (14.2 % without)"
+            ),
+        ),
+        "FP2",
+    ],
+)
 def test_mil_gm1_pointwise_within_20_percent(mil, name):
     # The issue's acceptance bound over 0.25-15 Hz, frequency by frequency
     # (measured max 18.1 % SD2, 20.7 % LR2, 18.2 % FP2).
@@ -207,7 +228,13 @@ def test_mil_lr2_within_20_percent_on_the_linearized_table(p):
     # LR2's 20.7 % (at 4.3 Hz) comes from the virtual table's nonlinearity: the
     # same run on the linearized table (ideal sensors) stays within 20 %
     # (measured 14.2 % at 9.9 Hz, mean 2.7 %).
-    r = run_mil(p, presets.get("LR2"), gm1(0.8), specimen=FluidVessel.report_default(),
-                sensors=ideal_sensors(), table=linear_table(p))
+    r = run_mil(
+        p,
+        presets.get("LR2"),
+        gm1(0.8),
+        specimen=FluidVessel.report_default(),
+        sensors=ideal_sensors(),
+        table=linear_table(p),
+    )
     assert r.run.completed
     assert curve(r.run, MIL_BAND_HZ).max_abs < 0.20

@@ -34,8 +34,15 @@ def p():
 
 
 def _short_multisine(peak, rate=2000.0, n_points=4096, n_lines=200, f_max=100.0, periods=3):
-    return design_multisine(peak=peak, n_points=n_points, n_lines=n_lines, f_max_hz=f_max,
-                            sample_rate_hz=rate, n_periods=periods, iterations=20)
+    return design_multisine(
+        peak=peak,
+        n_points=n_points,
+        n_lines=n_lines,
+        f_max_hz=f_max,
+        sample_rate_hz=rate,
+        n_periods=periods,
+        iterations=20,
+    )
 
 
 def test_small_amplitude_frf_equals_sampled_linear_model(p):
@@ -44,8 +51,9 @@ def test_small_amplitude_frf_equals_sampled_linear_model(p):
     # (plant.SampledTable) within 1 % magnitude and 1 deg up to 100 Hz.
     table = NonlinearTable.from_linear(p, friction=Friction.none())
     ms = _short_multisine(2e-3)
-    e = run_frf(p, table=table, multisine=ms, delay="sampled", identify=False,
-                sensors=ideal_sensors(), quantize=False)
+    e = run_frf(
+        p, table=table, multisine=ms, delay="sampled", identify=False, sensors=ideal_sensors(), quantize=False
+    )
     e_run = e.run
     assert e_run.completed
     frf = estimate_frf(e_run.u, e_run.z, ms.n_points, ms.sample_rate_hz, lines=ms.lines)
@@ -72,8 +80,7 @@ def test_fast_loop_frf_approaches_continuous_eq_4_14b(p):
 def _linear_frf(p, ms, noise, seed=0):
     """z/u FRF of the exact sampled linear model driven by the multisine (+ output noise)."""
     st = LinearTable(p, delay="sampled").sampled()
-    sys = scipy.signal.dlti(st.A, st.B_u[:, None], st.C["z"][None, :], [[st.D["z"][0]]],
-                            dt=p.loop_time)
+    sys = scipy.signal.dlti(st.A, st.B_u[:, None], st.C["z"][None, :], [[st.D["z"][0]]], dt=p.loop_time)
     _, y, _ = scipy.signal.dlsim(sys, ms.signal)
     y = y[:, 0]
     if noise:
@@ -180,8 +187,8 @@ def test_identification_of_valve_poles(p):
     ms = _short_multisine(0.05, periods=3)
     frf = _linear_frf(p, ms, 0.0)
     start = p.replace(f_oil_hz=25.0, zeta_oil=0.1, d=0.9e5, valve_poles_hz=(60.0, 125.0))
-    ident = identify_table(frf, start, delay="sampled",
-                           free=("f_oil_hz", "zeta_oil", "d", "valve_pole_1_hz",
-                                 "valve_pole_2_hz"))
+    ident = identify_table(
+        frf, start, delay="sampled", free=("f_oil_hz", "zeta_oil", "d", "valve_pole_1_hz", "valve_pole_2_hz")
+    )
     assert ident.parameters.valve_poles_hz == pytest.approx((70.0, 110.0), rel=1e-3)
     assert ident.parameters.f_oil_hz == pytest.approx(27.0, rel=1e-3)

@@ -60,14 +60,18 @@ def test_interface_path_equals_compiled_path_under_control(table, precision):
     controller = discretize(design.H_uz, design.H_uw, p.loop_time, fc_hz=80.0)
     a_g = 40.0 * np.sin(2 * np.pi * 3.0 * np.arange(2000) * p.loop_time)
     vessel = FluidVessel.report_default()
-    fast = simulate(table, a_g=a_g, runtime=MILRuntime(controller, precision=precision),
-                    specimen=vessel, seed=3)
-    slow = simulate_interface(VirtualTable(table, specimen=vessel, seed=3), a_g=a_g,
-                              runtime=MILRuntime(controller, precision=precision))
+    fast = simulate(
+        table, a_g=a_g, runtime=MILRuntime(controller, precision=precision), specimen=vessel, seed=3
+    )
+    slow = simulate_interface(
+        VirtualTable(table, specimen=vessel, seed=3),
+        a_g=a_g,
+        runtime=MILRuntime(controller, precision=precision),
+    )
     for name in ("u", "u_w", "u_z", "x", "z", "w_lc"):
         a, b = fast.channels[name], slow.channels[name]
         assert np.max(np.abs(a - b)) <= 1e-12 * max(1.0, np.max(np.abs(a))), name
-    assert np.max(np.abs(fast.u_w)) > 0                     # the feedback path is active
+    assert np.max(np.abs(fast.u_w)) > 0  # the feedback path is active
     np.testing.assert_array_equal(fast.channels["u_z"] + fast.channels["u_w"], fast.channels["u"])
 
 
@@ -76,7 +80,7 @@ def test_rest_stays_at_rest(table):
     # string potentiometer's quantization of x = 0 (Table 7.1: 1.25 in/V, 16 bits
     # over +-10 V -> 1 LSB = 3.8e-4 in), and dP stays within friction/LSB levels.
     r = simulate(table, command=np.zeros(4000), sensors=ideal_sensors())
-    lsb = 1.25 * 20.0 / 2 ** 16
+    lsb = 1.25 * 20.0 / 2**16
     assert r.completed and np.max(np.abs(r.x)) < lsb and np.max(np.abs(r.dp)) < 5.0
 
 
@@ -112,8 +116,9 @@ def test_stroke_trip_keeps_data_and_says_when(table):
 def test_velocity_and_valve_saturation_trips(table):
     r = simulate(table, command=np.full(4000, 0.5), limits=SafetyLimits(velocity=5.0))
     assert r.trip.limit == "velocity" and r.trip.value > 5.0
-    r = simulate(table, command=np.full(4000, 2.9),
-                 limits=SafetyLimits(valve_saturation_time=0.02, actuator_force=1e5))
+    r = simulate(
+        table, command=np.full(4000, 2.9), limits=SafetyLimits(valve_saturation_time=0.02, actuator_force=1e5)
+    )
     assert r.trip.limit == "valve_saturation" and r.trip.time_s == pytest.approx(0.0205, abs=2e-3)
 
 
@@ -121,8 +126,7 @@ def test_force_trip_with_heavy_specimen(table):
     # A 40 000 lb rigid mass shaken at 8 Hz needs ~5000 lbf of actuator force;
     # a 4000 lbf interlock must trip on it (the default is 95 % of A_p*Ps = 5985 lbf).
     u = 0.5 * np.sin(2 * np.pi * 8 * np.arange(4000) * T)
-    r = simulate(table, command=u, specimen=RigidMass(40000.0),
-                 limits=SafetyLimits(actuator_force=4000.0))
+    r = simulate(table, command=u, specimen=RigidMass(40000.0), limits=SafetyLimits(actuator_force=4000.0))
     assert r.trip.limit == "actuator_force" and abs(r.trip.value) > 4000.0
 
 
@@ -134,8 +138,7 @@ class _UnstableSpecimen:
 
 def test_divergence_is_detected(table):
     # With the interlocks off, a diverging model must stop on divergence or NaN.
-    r = simulate(table, command=np.zeros(40000), specimen=_UnstableSpecimen(),
-                 limits=SafetyLimits.disabled())
+    r = simulate(table, command=np.zeros(40000), specimen=_UnstableSpecimen(), limits=SafetyLimits.disabled())
     assert r.trip is not None and r.trip.limit in ("divergence", "nan")
     assert np.all(np.isfinite(r.x))
 
@@ -152,10 +155,10 @@ def test_unstable_gain_trips_an_interlock(table):
 def test_run_file_round_trip(table, tmp_path):
     r = simulate(table, command=_command(1000), specimen=RigidMass(1200.0))
     path = save_run(r, tmp_path / "run.h5")
-    assert [p.name for p in tmp_path.iterdir()] == ["run.h5"]     # no temporary left
+    assert [p.name for p in tmp_path.iterdir()] == ["run.h5"]  # no temporary left
     mask = os.umask(0)
     os.umask(mask)
-    assert path.stat().st_mode & 0o777 == 0o666 & ~mask   # the mode of any new file
+    assert path.stat().st_mode & 0o777 == 0o666 & ~mask  # the mode of any new file
     back = load_run(path)
     for name, arr in r.channels.items():
         np.testing.assert_array_equal(back.channels[name], arr)
@@ -167,13 +170,17 @@ def test_run_file_round_trip(table, tmp_path):
 
 def test_run_file_extras(table, tmp_path):
     r = simulate(table, command=_command(200))
-    path = save_run(r, tmp_path / "run.h5", extra_attrs={"note": "hello"},
-                    extra_groups={"extra": {"a": np.arange(3.0), "sub": {"b": [1, 2]}}})
+    path = save_run(
+        r,
+        tmp_path / "run.h5",
+        extra_attrs={"note": "hello"},
+        extra_groups={"extra": {"a": np.arange(3.0), "sub": {"b": [1, 2]}}},
+    )
     with h5py.File(path) as fh:
         assert fh.attrs["note"] == "hello"
         np.testing.assert_array_equal(fh["extra/a"][()], [0.0, 1.0, 2.0])
         np.testing.assert_array_equal(fh["extra/sub/b"][()], [1, 2])
-    np.testing.assert_array_equal(load_run(path).x, r.x)          # still a run file
+    np.testing.assert_array_equal(load_run(path).x, r.x)  # still a run file
     with pytest.raises(ValueError, match="'mode'"):
         save_run(r, tmp_path / "bad.h5", extra_attrs={"mode": "mil"})
     with pytest.raises(ValueError, match="'channels'"):
@@ -194,8 +201,9 @@ def test_rk4_agrees_with_solve_ivp_reference(table):
     # 3 Hz + 31 Hz command with the vessel.  Agreement 1e-3 of the peak acceleration (measured ~1e-4).
     u = _command(600)
     vessel = FluidVessel.report_default()
-    ref = simulate_interface(ScipyTable(table, specimen=vessel, sensors=ideal_sensors(),
-                                        quantize=False), command=u)
+    ref = simulate_interface(
+        ScipyTable(table, specimen=vessel, sensors=ideal_sensors(), quantize=False), command=u
+    )
     fast = simulate(table, command=u, specimen=vessel, sensors=ideal_sensors(), quantize=False)
     for name in ("z", "x", "dp", "w"):
         scale = np.max(np.abs(ref.channels[name]))
@@ -214,8 +222,9 @@ def test_bad_inputs_are_named(table):
 
 
 def test_controller_loop_time_must_match_the_table(table):
-    design = design_controller(table_model(report_parameters()), form="tracking", fc_hz=80.0,
-                               emit_warnings=False)
+    design = design_controller(
+        table_model(report_parameters()), form="tracking", fc_hz=80.0, emit_warnings=False
+    )
     runtime = MILRuntime(discretize(design.H_uz, design.H_uw, 1e-3, fc_hz=80.0))
     with pytest.raises(ConfigError, match="loop_time"):
         simulate(table, a_g=np.zeros(10), runtime=runtime)

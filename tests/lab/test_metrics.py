@@ -24,7 +24,7 @@ def test_dissipated_energy_of_viscous_loop():
     t = np.linspace(0, 2 * np.pi / w, 20001)
     x = A * np.sin(w * t)
     e = dissipated_energy(c * A * w * np.cos(w * t), x)
-    assert e == pytest.approx(np.pi * c * w * A ** 2, rel=1e-6)
+    assert e == pytest.approx(np.pi * c * w * A**2, rel=1e-6)
 
 
 def test_spectral_error_is_relative_psa_error():

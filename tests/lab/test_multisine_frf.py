@@ -29,9 +29,9 @@ def test_report_multisine_layout(report_multisine):
     assert ms.duration == pytest.approx(3 * 4.096)
     spec = np.abs(np.fft.rfft(ms.period))
     on = spec[ms.lines]
-    assert np.ptp(on) / np.mean(on) < 1e-9            # equal amplitudes
+    assert np.ptp(on) / np.mean(on) < 1e-9  # equal amplitudes
     off = np.delete(spec, ms.lines)
-    assert np.max(off) < 1e-9 * np.mean(on)           # nothing between the lines
+    assert np.max(off) < 1e-9 * np.mean(on)  # nothing between the lines
     assert np.max(np.abs(ms.period)) == pytest.approx(1.0)
 
 
@@ -55,7 +55,7 @@ def test_crest_factor_of_a_sine_is_sqrt2():
 def _plant():
     # 2nd-order system, f_n = 12 Hz, zeta = 0.3, static gain 2 (closed form).
     wn, z = 2 * np.pi * 12, 0.3
-    return ([2 * wn ** 2], [1, 2 * z * wn, wn ** 2])
+    return ([2 * wn**2], [1, 2 * z * wn, wn**2])
 
 
 def _simulate(ms, noise=0.0, seed=0):
@@ -86,8 +86,7 @@ def test_h1_with_noise_has_lower_coherence():
     # response is small; where coherence > 0.98 the H1 relative standard
     # deviation is sqrt((1-g)/(2 n g)) < 0.032, so every such line is within
     # 0.15 (~4.5 sigma) of the truth.
-    ms = design_multisine(n_points=2048, n_lines=100, f_max_hz=100.0, n_periods=11,
-                          phases="schroeder")
+    ms = design_multisine(n_points=2048, n_lines=100, f_max_hz=100.0, n_periods=11, phases="schroeder")
     u, y, (b, a) = _simulate(ms, noise=0.05)
     frf = estimate_frf(u, y, ms.n_points, ms.sample_rate_hz, lines=ms.lines)
     _, ref = scipy.signal.freqz(b, a, worN=frf.frequency_hz, fs=ms.sample_rate_hz)
@@ -100,7 +99,7 @@ def test_h1_with_noise_has_lower_coherence():
 def _model(params, f_hz):
     s = 2j * np.pi * f_hz
     wn = 2 * np.pi * params["fn"]
-    return params["k"] * wn ** 2 / (s ** 2 + 2 * params["zeta"] * wn * s + wn ** 2)
+    return params["k"] * wn**2 / (s**2 + 2 * params["zeta"] * wn * s + wn**2)
 
 
 @pytest.mark.parametrize("noise, tol", [(0.0, 1e-6), (0.05, 0.03)])
@@ -113,7 +112,7 @@ def test_fit_recovers_parameters(noise, tol):
     h = _model(true, f)
     rng = np.random.default_rng(4)
     meas = h * (1 + noise * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
-    frf = FRF(f, meas, np.full(f.size, 1.0 / (1.0 + noise ** 2 + 1e-12)), 7)
+    frf = FRF(f, meas, np.full(f.size, 1.0 / (1.0 + noise**2 + 1e-12)), 7)
     fit = fit_frf(frf, _model, {"k": 1.0, "fn": 9.0, "zeta": 0.5}, f_range_hz=(0.5, 100))
     assert fit.success
     for name, value in true.items():

@@ -14,7 +14,14 @@ from impedance_mil.errors import ConfigError
 from impedance_mil.lab.kernels import plant_advance
 from impedance_mil.lab.plant_interface import specimen_arrays
 from impedance_mil.plant.nonlinear import (
-    IX_P1, IX_P2, IX_S, IX_X, Friction, NonlinearTable, port_flows, valve_command,
+    IX_P1,
+    IX_P2,
+    IX_S,
+    IX_X,
+    Friction,
+    NonlinearTable,
+    port_flows,
+    valve_command,
 )
 
 from .conftest import eq_4_11, eq_4_14b, ss_response
@@ -28,8 +35,11 @@ def _table(p, **kw):
 
 def _outputs(p):
     m, area = p.mass, p.piston_area
-    return {"x": (np.eye(5)[0], 0.0), "dp": (np.eye(5)[2], 0.0),
-            "z": (np.array([0, 0, area / m, 0, 0]), None)}
+    return {
+        "x": (np.eye(5)[0], 0.0),
+        "dp": (np.eye(5)[2], 0.0),
+        "z": (np.array([0, 0, area / m, 0, 0]), None),
+    }
 
 
 @pytest.mark.parametrize("output", ["x", "z", "dp"])
@@ -156,7 +166,7 @@ def test_oil_stiffness_grows_away_from_mid_stroke(table41):
         k_num = -(da[IX_P1] - da[IX_P2] - dbb[IX_P1] + dbb[IX_P2]) / (2 * h) * table.piston_area
         v1 = table.piston_area * (table.mid_stroke + x) + table.dead_volume
         v2 = table.piston_area * (table.mid_stroke - x) + table.dead_volume
-        k_ref = table.bulk_modulus * table.piston_area ** 2 * (1 / v1 + 1 / v2)
+        k_ref = table.bulk_modulus * table.piston_area**2 * (1 / v1 + 1 / v2)
         assert abs(k_num / k_ref - 1) < 1e-6
 
 

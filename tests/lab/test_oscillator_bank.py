@@ -33,15 +33,16 @@ def _trajectory(table, specimen, arrays):
     current = amp * (0.7 * np.sin(2 * np.pi * 2.0 * t) + 0.3 * np.sin(2 * np.pi * 23.0 * t))
     out = np.empty((N_TICKS, n))
     for k in range(N_TICKS):
-        plant_advance(table.parameter_array(), y, *arrays, current[k], table.loop_time, nsub,
-                      work)
+        plant_advance(table.parameter_array(), y, *arrays, current[k], table.loop_time, nsub, work)
         out[k] = y
     return out
 
 
-@pytest.mark.parametrize("specimen", [FluidVessel.report_default(water_depth_in=d)
-                                      for d in (0.0, 18.0, 36.0, 42.0)] + [RigidMass(1600.0)],
-                         ids=["vessel-0", "vessel-18", "vessel-36", "vessel-42", "rigid"])
+@pytest.mark.parametrize(
+    "specimen",
+    [FluidVessel.report_default(water_depth_in=d) for d in (0.0, 18.0, 36.0, 42.0)] + [RigidMass(1600.0)],
+    ids=["vessel-0", "vessel-18", "vessel-36", "vessel-42", "rigid"],
+)
 def test_bank_path_equals_the_general_path(table, specimen):
     # Independent method: the same RK4 stages through the general compressed-row
     # state space (oscillator_bank=False).  The stage derivatives are computed with
@@ -64,7 +65,7 @@ def test_vessel_bank_coefficients_are_its_oscillators():
     osc = vessel.oscillators()
     omega = 2 * np.pi * np.array([o.frequency_hz for o in osc])
     zeta = np.array([o.damping_ratio for o in osc])
-    np.testing.assert_allclose(arrays[7], -omega**2, rtol=1e-12)
+    np.testing.assert_allclose(arrays[7], -(omega**2), rtol=1e-12)
     np.testing.assert_allclose(arrays[8], -2 * zeta * omega, rtol=1e-12)
 
 

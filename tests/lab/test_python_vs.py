@@ -41,16 +41,18 @@ class PythonSpringDamper(VirtualSystem):
 
     def outputs(self, x, a_g: float, w: float) -> VSOutput:
         force = self.k_s * x[0] + self.c * x[1]
-        return VSOutput(z_vs=(w - force) / self.m_vs, displacement=float(x[0]),
-                        velocity=float(x[1]), force=float(force))
+        return VSOutput(
+            z_vs=(w - force) / self.m_vs, displacement=float(x[0]), velocity=float(x[1]), force=float(force)
+        )
 
 
 @pytest.fixture(scope="module")
 def setup():
     p = report_parameters()
     sd2 = presets.get("SD2")
-    design = design_controller(table_model(p), virtual_model(sd2), form="standardized",
-                               fc_hz=80.0, emit_warnings=False)
+    design = design_controller(
+        table_model(p), virtual_model(sd2), form="standardized", fc_hz=80.0, emit_warnings=False
+    )
     controller = discretize(design.H_uz, design.H_uw, p.loop_time, fc_hz=80.0)
     motion = builtin_motion("elcentro").time_scaled(2).scaled_to_pga(0.4).trimmed(0, 3.0)
     return p, sd2, controller, motion.resampled(p.loop_time).accel
@@ -64,18 +66,22 @@ def test_python_vs_runs_the_same_test_as_the_compiled_loop(setup):
     p, sd2, controller, a_g = setup
     twin = PythonSpringDamper(m_vs=sd2.m_vs, k_s=sd2.k_s, c=sd2.c)
     table, vessel = NonlinearTable.from_linear(p), FluidVessel.report_default()
-    fast = simulate(table, a_g=a_g, specimen=vessel,
-                    runtime=MILRuntime(controller, vs=sd2, precision="double"))
-    slow = simulate(table, a_g=a_g, specimen=vessel,
-                    runtime=MILRuntime(controller, vs=twin, precision="double"))
+    fast = simulate(
+        table, a_g=a_g, specimen=vessel, runtime=MILRuntime(controller, vs=sd2, precision="double")
+    )
+    slow = simulate(
+        table, a_g=a_g, specimen=vessel, runtime=MILRuntime(controller, vs=twin, precision="double")
+    )
     assert slow.completed and slow.mode == "mil" and slow.config["path"] == "python-vs"
     assert slow.config["substeps"] == fast.config["substeps"]
     for name in ("z", "u", "u_w", "z_vs", "x", "w_lc"):
         ref = fast.channels[name]
-        np.testing.assert_allclose(slow.channels[name], ref, rtol=0, atol=1e-9 * np.max(np.abs(ref)),
-                                   err_msg=name)
-    np.testing.assert_allclose(slow.vs_states, fast.vs_states, rtol=0,
-                               atol=1e-9 * np.max(np.abs(fast.vs_states)))
+        np.testing.assert_allclose(
+            slow.channels[name], ref, rtol=0, atol=1e-9 * np.max(np.abs(ref)), err_msg=name
+        )
+    np.testing.assert_allclose(
+        slow.vs_states, fast.vs_states, rtol=0, atol=1e-9 * np.max(np.abs(fast.vs_states))
+    )
 
 
 def test_runtime_python_vs_step_matches_kernel(setup):
@@ -84,8 +90,9 @@ def test_runtime_python_vs_step_matches_kernel(setup):
     p, sd2, controller, a_g = setup
     w = -200.0 * np.sin(np.arange(a_g.size) * 0.01)
     ref = MILRuntime(controller, vs=sd2, precision="double").run_mil(a_g, w)
-    got = MILRuntime(controller, vs=PythonSpringDamper(m_vs=sd2.m_vs, k_s=sd2.k_s, c=sd2.c),
-                     precision="double").run_mil(a_g, w)
+    got = MILRuntime(
+        controller, vs=PythonSpringDamper(m_vs=sd2.m_vs, k_s=sd2.k_s, c=sd2.c), precision="double"
+    ).run_mil(a_g, w)
     np.testing.assert_allclose(got.u, ref.u, rtol=0, atol=1e-12 * np.max(np.abs(ref.u)))
     np.testing.assert_allclose(got.z_vs, ref.z_vs, rtol=0, atol=1e-12 * np.max(np.abs(ref.z_vs)))
 

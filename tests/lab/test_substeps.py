@@ -13,8 +13,14 @@ from impedance_mil.implement import MILRuntime, discretize
 from impedance_mil.lab import ideal_sensors, load_run, save_run, simulate
 from impedance_mil.lab.kernels import coupled_derivative
 from impedance_mil.lab.plant_interface import VirtualTable, specimen_arrays
-from impedance_mil.lab.substeps import (RK4_STEP_BOUND, RK4_STEP_TOLERANCE, choose_substeps,
-                                        coupled_state_matrix, rk4_factor, rk4_oscillation_error)
+from impedance_mil.lab.substeps import (
+    RK4_STEP_BOUND,
+    RK4_STEP_TOLERANCE,
+    choose_substeps,
+    coupled_state_matrix,
+    rk4_factor,
+    rk4_oscillation_error,
+)
 from impedance_mil.plant.nonlinear import N_TABLE_STATES, NonlinearTable
 from impedance_mil.signals import builtin_motion
 from impedance_mil.specimens import FluidVessel
@@ -41,11 +47,10 @@ def test_step_bound_meets_the_tolerance():
     # error |R e^(-i t) - 1| equals the tolerance (brentq, xtol 1e-12) and both of its
     # parts, amplitude and phase error, stay below it.
     t = RK4_STEP_BOUND
-    amp = math.sqrt(1 - t ** 6 / 72 + t ** 8 / 576)
-    phase = math.atan2(t - t ** 3 / 6, 1 - t ** 2 / 2 + t ** 4 / 24)
+    amp = math.sqrt(1 - t**6 / 72 + t**8 / 576)
+    phase = math.atan2(t - t**3 / 6, 1 - t**2 / 2 + t**4 / 24)
     assert abs(rk4_factor(1j * t)) == pytest.approx(amp, rel=1e-14)
-    assert abs(abs(amp * complex(math.cos(phase - t), math.sin(phase - t)) - 1)
-               - RK4_STEP_TOLERANCE) < 1e-12
+    assert abs(abs(amp * complex(math.cos(phase - t), math.sin(phase - t)) - 1) - RK4_STEP_TOLERANCE) < 1e-12
     assert 0 < 1 - amp < RK4_STEP_TOLERANCE and 0 < t - phase < RK4_STEP_TOLERANCE
     assert rk4_oscillation_error(0.99 * t) < RK4_STEP_TOLERANCE < rk4_oscillation_error(1.01 * t)
 
@@ -98,8 +103,13 @@ def mil_case():
     p = report_parameters()
     gm = builtin_motion("elcentro").time_scaled(2).scaled_to_pga(0.6).resampled(p.loop_time)
     vs = presets.get("SD2")
-    design = design_controller(table_model(p), virtual_model(vs, linearization="open-fh"),
-                               form="standardized", fc_hz=80.0, emit_warnings=False)
+    design = design_controller(
+        table_model(p),
+        virtual_model(vs, linearization="open-fh"),
+        form="standardized",
+        fc_hz=80.0,
+        emit_warnings=False,
+    )
     ctrl = discretize(design.H_uz, design.H_uw, p.loop_time, fc_hz=80.0)
     return gm.accel[:8000], MILRuntime(ctrl, vs=vs, precision="double")
 
@@ -138,8 +148,10 @@ def test_stiff_specimen_gets_enough_substeps(table):
     assert fixed.trip is not None
     auto = simulate(table, **kw)
     n = auto.config["substeps"]
-    assert auto.completed and n * RK4_STEP_BOUND >= auto.config["fastest_eigenvalue_rad_s"] \
-        * table.loop_time > 2 * 2.83
+    assert (
+        auto.completed
+        and n * RK4_STEP_BOUND >= auto.config["fastest_eigenvalue_rad_s"] * table.loop_time > 2 * 2.83
+    )
     ref = simulate(table, substeps=4 * n, **kw)
     assert np.max(np.abs(auto.z - ref.z)) < 1e-4 * np.max(np.abs(ref.z))
 

@@ -102,8 +102,9 @@ def test_printed_units_are_dimensionally_wrong():
     assert quantity("d*x4", "1 psi/(s*mA) * mA", "psi/second") == 1.0
     # Eq 4-12 prints K_r/K_s under the square root: sqrt(P_S/rho) K_r/K_s is in/s * in/mA
     # (K_r in^3/s/mA, K_s in^2/s), sqrt(P_S/rho K_r/K_s) is not a velocity times a length per mA.
-    assert quantity("x", "1 (psi/(lbf*s**2/in**4))**0.5 * (in**3/s/mA)/(in**2/s)",
-                    "in**2/s/mA") == pytest.approx(1.0)
+    assert quantity(
+        "x", "1 (psi/(lbf*s**2/in**4))**0.5 * (in**3/s/mA)/(in**2/s)", "in**2/s/mA"
+    ) == pytest.approx(1.0)
     with pytest.raises(ConfigError):
         quantity("x", "1 (psi/(lbf*s**2/in**4) * (in**3/s/mA)/(in**2/s))**0.5", "in**2/s/mA")
     # Figure 4.10 caption "K_e = 5 V/psi": K_e is a position gain [V/in].

@@ -19,8 +19,14 @@ def eq_4_15(p):
     w2 = (TWO_PI * p.f_oil_hz) ** 2
     e = 2 * p.zeta_oil * TWO_PI * p.f_oil_hz
     d, ap, m, kv, ke, kp, tau = p.d, p.piston_area, p.mass, p.Kv, p.Ke, p.Kp, p.loop_time
-    den = [1.0, dl + e, w2 + dl * e + g - g * d * kv * kp * tau, dl * w2 + g * e + g * d * kv * kp,
-           g * w2 - g * d * ap * kv * ke * tau / m, g * d * ap * kv * ke / m]
+    den = [
+        1.0,
+        dl + e,
+        w2 + dl * e + g - g * d * kv * kp * tau,
+        dl * w2 + g * e + g * d * kv * kp,
+        g * w2 - g * d * ap * kv * ke * tau / m,
+        g * d * ap * kv * ke / m,
+    ]
     k0 = g * d * ap * kv * ke / m
     wnum = [1.0, dl + e, dl * e + g - g * d * kv * kp * tau, g * e + g * d * kv * kp]
     return {
@@ -29,16 +35,19 @@ def eq_4_15(p):
         ("dp", "u"): ([g * d * kv * ke, 0.0, 0.0], den),
         ("z", "w"): ([c / m for c in wnum] + [0.0, 0.0], den),
         ("x", "w"): ([c / m for c in wnum], den),
-        ("dp", "w"): ([-w2 / ap, -dl * w2 / ap, -(g * w2 / ap - g * d * kv * ke * tau / m),
-                       -g * d * kv * ke / m], den),
+        ("dp", "w"): (
+            [-w2 / ap, -dl * w2 / ap, -(g * w2 / ap - g * d * kv * ke * tau / m), -g * d * kv * ke / m],
+            den,
+        ),
     }
 
 
 PARAMS = [
-    TableParameters.report_default(),                        # Table 4.1 (tau = 500 us)
+    TableParameters.report_default(),  # Table 4.1 (tau = 500 us)
     TableParameters.report_default().replace(loop_time=0.0),  # analog, Eq 4-14b
-    TableParameters.report_default().replace(Ke=3.0, Kp=0.0006, loop_time=1e-3, d=2e5,
-                                             zeta_oil=0.05, f_oil_hz=31.0),
+    TableParameters.report_default().replace(
+        Ke=3.0, Kp=0.0006, loop_time=1e-3, d=2e5, zeta_oil=0.05, f_oil_hz=31.0
+    ),
 ]
 
 
@@ -65,8 +74,13 @@ def test_state_space_matches_eq_4_14b_and_printed_eq_4_14a_lacks_kv():
     A_b = np.array(top + [[-kv * ke * g, 0, -kv * kp * g, -g, -dl]])
     np.testing.assert_allclose(LinearTable(p, delay="none").state_space().A, A_b, rtol=1e-12)
     # Eq 4-14a with K_v in entry (5,4): gamma (K_v d K_p tau - 1).
-    row = [-kv * ke * g, kv * g * tau * (ke - kp * w2 * m / ap), -kv * kp * g * (1 + tau * e),
-           g * (kv * d * kp * tau - 1), -dl]
+    row = [
+        -kv * ke * g,
+        kv * g * tau * (ke - kp * w2 * m / ap),
+        -kv * kp * g * (1 + tau * e),
+        g * (kv * d * kp * tau - 1),
+        -dl,
+    ]
     A_a = np.array(top + [row])
     np.testing.assert_allclose(LinearTable(p).state_space().A, A_a, rtol=1e-12)
     # As printed, entry (5,4) reads gamma (d K_p tau - 1): its characteristic polynomial
@@ -86,7 +100,7 @@ def test_open_loop_eq_4_11_poles():
     assert abs(poles[0]) < 1e-9
     oil = poles[2]
     assert oil.real == pytest.approx(-15.3, abs=0.05)  # printed to 0.1
-    assert oil.imag == pytest.approx(169.0, abs=0.5)   # printed to 3 digits
+    assert oil.imag == pytest.approx(169.0, abs=0.5)  # printed to 3 digits
     assert poles[3].real == pytest.approx(-TWO_PI * 70, rel=1e-12)
     assert poles[4].real == pytest.approx(-TWO_PI * 110, rel=1e-12)
 

@@ -5,8 +5,13 @@ import math
 import pytest
 
 from impedance_mil.errors import ConfigError, DataFileError
-from impedance_mil.plant import (TableParameters, default_table_path, model_constant_d,
-                                 oil_column_damping, oil_column_frequency)
+from impedance_mil.plant import (
+    TableParameters,
+    default_table_path,
+    model_constant_d,
+    oil_column_damping,
+    oil_column_frequency,
+)
 from impedance_mil.plant.parameters import bulk_modulus_from_frequency
 
 
@@ -35,8 +40,7 @@ def test_bulk_modulus_and_leakage_round_trip():
     p = TableParameters.report_default()
     w = oil_column_frequency(p.bulk_modulus, p.piston_area, p.mass, p.mid_stroke)
     assert w == pytest.approx(p.omega_oil, rel=1e-12)
-    z = oil_column_damping(p.leakage_coefficient, p.bulk_modulus, p.piston_area, p.mass,
-                           p.mid_stroke)
+    z = oil_column_damping(p.leakage_coefficient, p.bulk_modulus, p.piston_area, p.mass, p.mid_stroke)
     assert z == pytest.approx(p.zeta_oil, rel=1e-12)
 
 
@@ -62,26 +66,30 @@ def test_model_constant_d_eq_4_12_scales_as_derived():
 
 
 def test_units_at_the_edge():
-    p = TableParameters.from_toml(default_table_path(),
-                                  {"mass": "1600 lb", "loop_time": "1 ms", "Ke": "0.2 V/mm",
-                                   "valve_poles_hz": "60,100"})
+    p = TableParameters.from_toml(
+        default_table_path(),
+        {"mass": "1600 lb", "loop_time": "1 ms", "Ke": "0.2 V/mm", "valve_poles_hz": "60,100"},
+    )
     assert p.mass == pytest.approx(1600 / 386.0886, rel=1e-5)  # pound-mass to lbf*s^2/in
     assert p.loop_time == pytest.approx(1e-3)
     assert p.Ke == pytest.approx(0.2 * 25.4)
     assert p.valve_poles_hz == (60.0, 100.0)
 
 
-@pytest.mark.parametrize("key, value, match", [
-    ("mass", -1.0, "mass"),
-    ("piston_area", 0.0, "piston_area"),
-    ("Ke", 0.0, "Ke"),
-    ("Kv", "-3 mA/V", "Kv"),
-    ("Kp", float("nan"), "Kp"),
-    ("mass", "3 in", "mass"),
-    ("loop_time", "1 V", "loop_time"),
-    ("nonsense", 1.0, "nonsense"),
-    ("valve_poles_hz", [70.0], "valve_poles_hz"),
-])
+@pytest.mark.parametrize(
+    "key, value, match",
+    [
+        ("mass", -1.0, "mass"),
+        ("piston_area", 0.0, "piston_area"),
+        ("Ke", 0.0, "Ke"),
+        ("Kv", "-3 mA/V", "Kv"),
+        ("Kp", float("nan"), "Kp"),
+        ("mass", "3 in", "mass"),
+        ("loop_time", "1 V", "loop_time"),
+        ("nonsense", 1.0, "nonsense"),
+        ("valve_poles_hz", [70.0], "valve_poles_hz"),
+    ],
+)
 def test_bad_values_name_the_key(key, value, match):
     with pytest.raises(ConfigError, match=match):
         TableParameters.from_toml(default_table_path(), {key: value})

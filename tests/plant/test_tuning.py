@@ -4,9 +4,16 @@ import numpy as np
 import pytest
 
 from impedance_mil.plant import LinearTable, TableParameters
-from impedance_mil.plant.tuning import (breakaway, compare_delay_models, first_order_validity_limit,
-                                        labelled_poles, oil_column_mode, recommend_kp,
-                                        stability_limit, sweep)
+from impedance_mil.plant.tuning import (
+    breakaway,
+    compare_delay_models,
+    first_order_validity_limit,
+    labelled_poles,
+    oil_column_mode,
+    recommend_kp,
+    stability_limit,
+    sweep,
+)
 
 ANALOG = TableParameters.report_default().replace(loop_time=0.0)
 # Tolerances: the tables print frequencies to 1 Hz (some to 0.1 Hz) and damping to 0.01

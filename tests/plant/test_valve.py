@@ -36,23 +36,31 @@ def test_fit_with_unmodelled_lag_stays_accurate_but_poles_are_ill_determined():
     # between alpha_1 and alpha_2 is poorly determined by a chart (documented in docs/plant.md).
     f = np.array([1, 2, 5, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100], float)
     s = 2j * np.pi * f
-    h = ((2 * np.pi * 70) * (2 * np.pi * 110) / ((s + 2 * np.pi * 70) * (s + 2 * np.pi * 110))
-         * (2 * np.pi * 1500) / (s + 2 * np.pi * 1500))
+    h = (
+        (2 * np.pi * 70)
+        * (2 * np.pi * 110)
+        / ((s + 2 * np.pi * 70) * (s + 2 * np.pi * 110))
+        * (2 * np.pi * 1500)
+        / (s + 2 * np.pi * 1500)
+    )
     fit = fit_valve_poles(ValveCurve(f, np.abs(h), -np.degrees(np.angle(h))))
     assert fit.amplitude_error_db < 0.2 and fit.phase_error_deg < 2.0
     assert abs(fit.poles_hz[0] * fit.poles_hz[1] - 7700) / 7700 < 0.1  # product kept ~ (70*110)
 
 
-@pytest.mark.parametrize("text, problem", [
-    ("", "empty"),
-    ("freq,amp\n1,1\n", "header"),
-    ("frequency_hz,amplitude_ratio\n1,1\n2,x\n3,1\n", "not a number"),
-    ("frequency_hz,amplitude_ratio\n1,1\n1,1\n3,1\n", "increasing"),
-    ("frequency_hz,amplitude_ratio\n1,1\n2,-1\n3,1\n", "positive"),
-    ("frequency_hz,amplitude_ratio\n1,1\n2,1\n", "at least 3"),
-    ("frequency_hz,amplitude_ratio\n1,1\n2\n3,1\n", "expected 2 values"),
-    ("frequency_hz,amplitude_ratio\n1,1\n2,nan\n3,1\n", "finite"),
-])
+@pytest.mark.parametrize(
+    "text, problem",
+    [
+        ("", "empty"),
+        ("freq,amp\n1,1\n", "header"),
+        ("frequency_hz,amplitude_ratio\n1,1\n2,x\n3,1\n", "not a number"),
+        ("frequency_hz,amplitude_ratio\n1,1\n1,1\n3,1\n", "increasing"),
+        ("frequency_hz,amplitude_ratio\n1,1\n2,-1\n3,1\n", "positive"),
+        ("frequency_hz,amplitude_ratio\n1,1\n2,1\n", "at least 3"),
+        ("frequency_hz,amplitude_ratio\n1,1\n2\n3,1\n", "expected 2 values"),
+        ("frequency_hz,amplitude_ratio\n1,1\n2,nan\n3,1\n", "finite"),
+    ],
+)
 def test_bad_curve_files_name_the_file(tmp_path, text, problem):
     f = tmp_path / "curve.csv"
     f.write_text(text)

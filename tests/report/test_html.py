@@ -14,8 +14,7 @@ from impedance_mil.report.html import RunView, flatten, html_page, render_run_ht
 def _channels(n=4000, dt=0.0005):
     t = np.arange(n) * dt
     a_g = np.full(n, 10.0)  # constant 10 in/s^2: x_g = 5 t^2 exactly
-    return {"t": t, "a_g": a_g, "z": a_g.copy(), "z_vs": 0.5 * a_g, "x": 5.0 * t ** 2 + 0.1,
-            "w": 3.0 * a_g}
+    return {"t": t, "a_g": a_g, "z": a_g.copy(), "z_vs": 0.5 * a_g, "x": 5.0 * t**2 + 0.1, "w": 3.0 * a_g}
 
 
 def test_isolator_loop_is_w_minus_m_vs_z_against_x_minus_x_g():
@@ -64,22 +63,41 @@ def test_html_escapes_text():
 
 def test_flatten_nested_configuration():
     assert flatten({"a": {"b": 1, "c": {"d": 2}}, "e": list(range(20))}) == {
-        "a.b": 1, "a.c.d": 2, "e": "[20 values]"}
+        "a.b": 1,
+        "a.c.d": 2,
+        "e": "[20 values]",
+    }
 
 
 def test_run_title_names_the_motion_not_its_description_dict():
     # The lab stores config["motion"] as a mapping (name, source, time step ...); the page title
     # must show the record's name, not the mapping's repr.
     t = np.arange(200) * 0.0005
-    channels = {"t": t, "z": np.sin(t), "z_vs": np.sin(t), "a_g": np.sin(t), "x": 0 * t, "w": 0 * t,
-                "u_w": 0 * t}
-    result = SimpleNamespace(mode="mil", channels=channels, trip=None, loop_time=0.0005,
-                             config={"motion": {"name": "El Centro (RSN 6)", "pga_g": 0.6}})
+    channels = {
+        "t": t,
+        "z": np.sin(t),
+        "z_vs": np.sin(t),
+        "a_g": np.sin(t),
+        "x": 0 * t,
+        "w": 0 * t,
+        "u_w": 0 * t,
+    }
+    result = SimpleNamespace(
+        mode="mil",
+        channels=channels,
+        trip=None,
+        loop_time=0.0005,
+        config={"motion": {"name": "El Centro (RSN 6)", "pga_g": 0.6}},
+    )
     view = RunView.from_result(result)
     assert view.title == "mil run: El Centro (RSN 6)"
 
 
 def test_flatten_lists_of_records_row_by_row():
     rows = flatten({"sensors": [{"name": "accelerometer", "scale": 259.1}, {"scale": 2.0}], "n": [1, 2]})
-    assert rows == {"sensors[accelerometer].name": "accelerometer", "sensors[accelerometer].scale": 259.1,
-                    "sensors[1].scale": 2.0, "n": [1, 2]}
+    assert rows == {
+        "sensors[accelerometer].name": "accelerometer",
+        "sensors[accelerometer].scale": 259.1,
+        "sensors[1].scale": 2.0,
+        "n": [1, 2],
+    }

@@ -26,9 +26,18 @@ webdriver = pytest.importorskip("selenium.webdriver", reason="selenium (test-onl
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
 CHROMEDRIVER = shutil.which("chromedriver")
-FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync",
-         "--disable-dev-shm-usage", "--window-size=1200,900")
+FLAGS = (
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--disable-dev-shm-usage",
+    "--window-size=1200,900",
+)
 
 
 def _require_browser() -> None:
@@ -106,10 +115,18 @@ def _check_page(driver, url: str) -> dict:
 def test_run_page_renders_every_figure(browser, served, tmp_path):
     t = np.arange(0.0, 8.0, 0.0005)
     a_g = 150.0 * np.sin(2 * np.pi * 1.5 * t) * np.exp(-0.3 * t)
-    channels = {"t": t, "a_g": a_g, "z": 1.03 * a_g, "z_vs": 0.8 * a_g,
-                "x": 0.01 * np.sin(2 * np.pi * 1.5 * t), "w": -20.0 * a_g, "u_w": 1e-3 * a_g}
-    view = RunView.from_channels(channels, title="Synthetic run", metrics={"nrmse": 0.03},
-                                 config={"table": {"Kp": 0.001}}, m_vs=5.18)
+    channels = {
+        "t": t,
+        "a_g": a_g,
+        "z": 1.03 * a_g,
+        "z_vs": 0.8 * a_g,
+        "x": 0.01 * np.sin(2 * np.pi * 1.5 * t),
+        "w": -20.0 * a_g,
+        "u_w": 1e-3 * a_g,
+    }
+    view = RunView.from_channels(
+        channels, title="Synthetic run", metrics={"nrmse": 0.03}, config={"table": {"Kp": 0.001}}, m_vs=5.18
+    )
     write_html(tmp_path / "run.html", render_run_html(view))
     facts = _check_page(browser, f"{served}/run.html")
     # histories, spectra, force-displacement
@@ -118,14 +135,24 @@ def test_run_page_renders_every_figure(browser, served, tmp_path):
 
 def _two_curves(rows):
     x = tuple(rows.values("stiffness"))
-    return AGREE, "two curves", (Curve("toolkit", x, tuple(rows.values("frequency_hz"))),
-                                 Curve("report", x, tuple(rows.values("frequency_hz")), "target")), \
-        "k [lbf/in]", "f [Hz]", True
+    return (
+        AGREE,
+        "two curves",
+        (
+            Curve("toolkit", x, tuple(rows.values("frequency_hz"))),
+            Curve("report", x, tuple(rows.values("frequency_hz")), "target"),
+        ),
+        "k [lbf/in]",
+        "f [Hz]",
+        True,
+    )
 
 
 def test_reproduction_page_renders_every_figure(browser, served, tmp_path):
-    body = ('[campaign]\nname = "sd"\nkind = "selftest"\n[base]\nmass = "5600 lb"\n'
-            '[[study]]\nname = "table-9.1"\nzip = { stiffness = [322, 894, 1753], damping = [41, 57, 64] }\n')
+    body = (
+        '[campaign]\nname = "sd"\nkind = "selftest"\n[base]\nmass = "5600 lb"\n'
+        '[[study]]\nname = "table-9.1"\nzip = { stiffness = [322, 894, 1753], damping = [41, 57, 64] }\n'
+    )
     (tmp_path / "sd.toml").write_text(body)
     run_campaign(load_campaign(tmp_path / "sd.toml"), tmp_path / "camp", InlineExecutor())
     extra = Claim("test-claim", "9.2", "statement", "selftest", "table-9.1", "test", _two_curves)
@@ -138,7 +165,9 @@ def test_reproduction_page_renders_every_figure(browser, served, tmp_path):
 
 def test_the_probe_sees_a_broken_figure(browser, served, tmp_path):
     """The checks above can fail: a truncated PNG has no natural width."""
-    write_html(tmp_path / "broken.html",
-               html_page("broken", ['<img src="data:image/png;base64,iVBORw0KGgo=" alt="truncated">']))
+    write_html(
+        tmp_path / "broken.html",
+        html_page("broken", ['<img src="data:image/png;base64,iVBORw0KGgo=" alt="truncated">']),
+    )
     with pytest.raises(AssertionError, match="truncated"):
         _check_page(browser, f"{served}/broken.html")

@@ -8,8 +8,7 @@ import numpy as np
 import pytest
 
 from impedance_mil.errors import ConfigError
-from impedance_mil.signals import (GroundMotion, TableLimits, builtin_motion, check_motion,
-                                   required_rated_flow)
+from impedance_mil.signals import GroundMotion, TableLimits, builtin_motion, check_motion, required_rated_flow
 from impedance_mil.units import G0
 
 
@@ -120,7 +119,7 @@ def test_uncorrected_check_of_a_constant_acceleration_by_hand():
     # The default baseline correction removes the drift: the corrected record ends at rest.
     corrected = check_motion(motion, limits)
     assert corrected.check("stroke").peak < 0.1 * raw.check("stroke").peak
-    assert raw.check("force").peak == pytest.approx(5.0 * 10.0, rel=1e-12)     # moving mass x a
+    assert raw.check("force").peak == pytest.approx(5.0 * 10.0, rel=1e-12)  # moving mass x a
 
 
 def test_without_hydraulics_only_three_checks():
@@ -131,8 +130,11 @@ def test_without_hydraulics_only_three_checks():
 
 @pytest.mark.parametrize(
     ("kwargs", "key"),
-    [({"stroke_in": -1.0}, "stroke_in"), ({"moving_mass": 0.0}, "moving_mass"),
-     ({"piston_area": 2.1}, "piston_area")],
+    [
+        ({"stroke_in": -1.0}, "stroke_in"),
+        ({"moving_mass": 0.0}, "moving_mass"),
+        ({"piston_area": 2.1}, "piston_area"),
+    ],
 )
 def test_invalid_limits(kwargs, key):
     args = {"stroke_in": 3.0, "velocity_in_s": 40.0, "force_lbf": 5000.0, "moving_mass": 5.0} | kwargs

@@ -24,8 +24,14 @@ def test_value_object_is_frozen_and_read_only():
 
 @pytest.mark.parametrize(
     ("dt", "accel", "key"),
-    [(0.0, [1.0, 2.0], "time_step"), (-1.0, [1.0, 2.0], "time_step"), (float("nan"), [1, 2], "time_step"),
-     (0.01, [1.0], "accel"), (0.01, [[1.0, 2.0]], "accel"), (0.01, [1.0, float("nan")], "accel")],
+    [
+        (0.0, [1.0, 2.0], "time_step"),
+        (-1.0, [1.0, 2.0], "time_step"),
+        (float("nan"), [1, 2], "time_step"),
+        (0.01, [1.0], "accel"),
+        (0.01, [[1.0, 2.0]], "accel"),
+        (0.01, [1.0, float("nan")], "accel"),
+    ],
 )
 def test_invalid_construction(dt, accel, key):
     with pytest.raises(ConfigError, match=key):

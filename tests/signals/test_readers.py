@@ -8,8 +8,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from impedance_mil.errors import ConfigError, DataFileError
-from impedance_mil.signals import (BUILTIN_MOTIONS, GroundMotion, builtin_motion, read_at2, read_columns,
-                                   read_motion, write_columns)
+from impedance_mil.signals import (
+    BUILTIN_MOTIONS,
+    GroundMotion,
+    builtin_motion,
+    read_at2,
+    read_columns,
+    read_motion,
+    write_columns,
+)
 from impedance_mil.units import G0
 
 AT2_NGAW2 = """PEER NGA STRONG MOTION DATABASE RECORD
@@ -184,9 +191,10 @@ def test_write_read_round_trip(tmp_path_factory, samples, dt):
 def test_at2_any_layout_round_trip(tmp_path_factory, samples, per_line):
     # The AT2 reader ignores line layout: any number of samples per line gives the same record.
     values = np.array(samples)
-    lines = [" ".join(f"{v:.7E}" for v in values[i:i + per_line]) for i in range(0, values.size, per_line)]
+    lines = [" ".join(f"{v:.7E}" for v in values[i : i + per_line]) for i in range(0, values.size, per_line)]
     text = f"h\nrec\nACCELERATION IN G\nNPTS= {values.size}, DT= .0100 SEC\n" + "\n".join(lines) + "\n"
     path = tmp_path_factory.mktemp("at2") / "r.AT2"
     path.write_text(text)
-    np.testing.assert_allclose(read_at2(path).accel, np.array([float(f"{v:.7E}") for v in values]) * G0,
-                               rtol=1e-15)
+    np.testing.assert_allclose(
+        read_at2(path).accel, np.array([float(f"{v:.7E}") for v in values]) * G0, rtol=1e-15
+    )

@@ -19,17 +19,24 @@ def _nigam_jennings_closed_form(w, z, dt):
     e, s, c, r = np.exp(-z * w * dt), np.sin(wd * dt), np.cos(wd * dt), z / np.sqrt(1 - z * z)
     k1, k2 = (2 * z * z - 1) / (w * w * dt), 2 * z / (w**3 * dt)
     a = np.array([[e * (r * s + c), e * s / wd], [-w / np.sqrt(1 - z * z) * e * s, e * (c - r * s)]])
-    b = np.array([
-        [e * ((k1 + z / w) * s / wd + (k2 + 1 / w**2) * c) - k2,
-         -e * (k1 * s / wd + k2 * c) - 1 / w**2 + k2],
-        [e * ((k1 + z / w) * (c - r * s) - (k2 + 1 / w**2) * (wd * s + z * w * c)) + 1 / (w * w * dt),
-         -e * (k1 * (c - r * s) - k2 * (wd * s + z * w * c)) - 1 / (w * w * dt)],
-    ])
+    b = np.array(
+        [
+            [
+                e * ((k1 + z / w) * s / wd + (k2 + 1 / w**2) * c) - k2,
+                -e * (k1 * s / wd + k2 * c) - 1 / w**2 + k2,
+            ],
+            [
+                e * ((k1 + z / w) * (c - r * s) - (k2 + 1 / w**2) * (wd * s + z * w * c)) + 1 / (w * w * dt),
+                -e * (k1 * (c - r * s) - k2 * (wd * s + z * w * c)) - 1 / (w * w * dt),
+            ],
+        ]
+    )
     return a, b
 
 
-@pytest.mark.parametrize(("w", "z", "dt"), [(TWO_PI, 0.05, 0.01), (50.0, 0.2, 0.003), (1.0, 0.0, 0.1),
-                                             (300.0, 0.05, 0.02)])
+@pytest.mark.parametrize(
+    ("w", "z", "dt"), [(TWO_PI, 0.05, 0.01), (50.0, 0.2, 0.003), (1.0, 0.0, 0.1), (300.0, 0.05, 0.02)]
+)
 def test_coefficients_match_published_closed_form(w, z, dt):
     # Independent formula; at these omega*dt (0.06 to 6) the closed form has no cancellation,
     # so agreement to 1e-12 relative (of the largest entry) is expected.
@@ -41,7 +48,9 @@ def test_coefficients_match_published_closed_form(w, z, dt):
 
 def _step_response(t, w, z, a0):
     wd = w * np.sqrt(1 - z * z)
-    return -(a0 / w**2) * (1 - np.exp(-z * w * t) * (np.cos(wd * t) + z / np.sqrt(1 - z * z) * np.sin(wd * t)))
+    return -(a0 / w**2) * (
+        1 - np.exp(-z * w * t) * (np.cos(wd * t) + z / np.sqrt(1 - z * z) * np.sin(wd * t))
+    )
 
 
 def _ramp_response(t, w, z, c):
@@ -74,8 +83,11 @@ def _harmonic_response(t, w, z, amp, big_w):
     u1, u2 = np.linalg.solve(mat, [-amp, 0.0])
     c1 = -u2
     c2 = (z * w * c1 - big_w * u1) / wd
-    return (u1 * np.sin(big_w * t) + u2 * np.cos(big_w * t)
-            + np.exp(-z * w * t) * (c1 * np.cos(wd * t) + c2 * np.sin(wd * t)))
+    return (
+        u1 * np.sin(big_w * t)
+        + u2 * np.cos(big_w * t)
+        + np.exp(-z * w * t) * (c1 * np.cos(wd * t) + c2 * np.sin(wd * t))
+    )
 
 
 def test_harmonic_input_converges_at_second_order():
@@ -158,8 +170,12 @@ def test_linearity_and_time_scaling_invariant():
 
 @pytest.mark.parametrize(
     ("kwargs", "key"),
-    [({"damping": -0.1}, "damping"), ({"periods": [0.0, 1.0]}, "periods"), ({"periods": []}, "periods"),
-     ({"time_step": 0.0}, "time_step")],
+    [
+        ({"damping": -0.1}, "damping"),
+        ({"periods": [0.0, 1.0]}, "periods"),
+        ({"periods": []}, "periods"),
+        ({"time_step": 0.0}, "time_step"),
+    ],
 )
 def test_invalid_arguments(kwargs, key):
     args = {"accel": np.ones(10), "time_step": 0.01, "periods": [1.0], "damping": 0.05} | kwargs

@@ -15,27 +15,51 @@ import pytest
 
 from impedance_mil.errors import ConfigError
 from impedance_mil.specimens import FluidVessel, RigidMass, rk4_step, sensors
-from impedance_mil.specimens.sensors import (REPORT_CHANNELS, Sensor, SensorSuite,
-                                             force_from_equilibrium, load_cell_force_kernel,
-                                             measure_kernel)
+from impedance_mil.specimens.sensors import (
+    REPORT_CHANNELS,
+    Sensor,
+    SensorSuite,
+    force_from_equilibrium,
+    load_cell_force_kernel,
+    measure_kernel,
+)
 from impedance_mil.units import G0
 
 LSB = 20.0 / 2**16
-M_ST = 4.14   # lbf*s^2/in, Section 4.4
-A_P = 2.1     # in^2, Section 4.4
+M_ST = 4.14  # lbf*s^2/in, Section 4.4
+A_P = 2.1  # in^2, Section 4.4
 
 
 def _kernel_measure(suite, quantities, draws):
     out = np.empty(suite.n_channels)
-    return measure_kernel(np.asarray(quantities, float), draws, suite.quantity_index, suite.gain,
-                          suite.scale, suite.offset, suite.noise_rms, suite.lsb, suite.v_low,
-                          suite.v_high, out)
+    return measure_kernel(
+        np.asarray(quantities, float),
+        draws,
+        suite.quantity_index,
+        suite.gain,
+        suite.scale,
+        suite.offset,
+        suite.noise_rms,
+        suite.lsb,
+        suite.v_low,
+        suite.v_high,
+        out,
+    )
 
 
 def test_report_scale_factors_table_7_1():
     suite = SensorSuite.report_default()
-    assert suite.names == ("accelerometer", "string_pot", "dp_cell", "ALC1", "ALC2",
-                           "LC-03", "LC-06", "LC-08", "LC-14")
+    assert suite.names == (
+        "accelerometer",
+        "string_pot",
+        "dp_cell",
+        "ALC1",
+        "ALC2",
+        "LC-03",
+        "LC-06",
+        "LC-08",
+        "LC-14",
+    )
     expected_scale = [0.6711 * G0, -1.25, -400.0, -1000.0, -1000.0, 200.0, 200.0, 200.0, 200.0]
     expected_offset = [0.067 * G0, 6.0, 0, 0, 0, 0, 0, 0, 0]
     np.testing.assert_allclose(suite.scale, expected_scale, rtol=1e-15)
@@ -75,8 +99,9 @@ def test_saturation_at_plus_minus_10_V():
     np.testing.assert_allclose(suite.measure(small).volts, -10.0, rtol=1e-15)
     # A string pot (-1.25 in/V, +6 in) reads between -6.5 and 18.5 in.
     pot = suite.index("string_pot")
-    assert suite.measure(suite.channel_values(table_displacement=-100.0)).values[pot] == \
-        pytest.approx(-1.25 * (10.0 - LSB) + 6.0)
+    assert suite.measure(suite.channel_values(table_displacement=-100.0)).values[pot] == pytest.approx(
+        -1.25 * (10.0 - LSB) + 6.0
+    )
     # A conditioner that saturates earlier limits the reading there.
     low = SensorSuite((Sensor("a", "table_acceleration", "in/s**2", 1.0, saturation_v=5.0),))
     assert low.measure([100.0]).volts[0] == pytest.approx(5.0, abs=LSB)
@@ -86,8 +111,9 @@ def test_noise_rms_matches_setting():
     noise = 0.01  # V rms, 33 LSB: quantization adds LSB^2/12, negligible (4e-5 relative)
     suite = SensorSuite.report_default(noise_rms_v=noise)
     n = 40000
-    values = np.broadcast_to(suite.channel_values(table_displacement=1.0, differential_pressure=100.0),
-                             (n, suite.n_channels))
+    values = np.broadcast_to(
+        suite.channel_values(table_displacement=1.0, differential_pressure=100.0), (n, suite.n_channels)
+    )
     readings = suite.measure(values, np.random.default_rng(11))
     err_v = (readings.values - values) / suite.scale
     rms = np.sqrt(np.mean(err_v**2, axis=0))
@@ -160,23 +186,26 @@ def _table_with_specimen(specimen, actuator_force, dt):
         for j in range(n_sub):
             fa, fb = f0 + (f1 - f0) * j / n_sub, f0 + (f1 - f0) * (j + 1) / n_sub
             z[k + 1] = rk4_step(a_c, b_c, c_z, 1.0 / m, x, fa, fb, dt / n_sub, x)
-        w[k + 1] = ss.output(x, z[k + 1])   # the specimen's own force, -sum m a
+        w[k + 1] = ss.output(x, z[k + 1])  # the specimen's own force, -sum m a
     return z, actuator_force / A_P, w
 
 
-@pytest.mark.parametrize("specimen", [RigidMass(3600.0), FluidVessel.report_default()],
-                         ids=["rigid", "vessel"])
+@pytest.mark.parametrize(
+    "specimen", [RigidMass(3600.0), FluidVessel.report_default()], ids=["rigid", "vessel"]
+)
 def test_w_fe_equals_true_interface_force(specimen):
     t = np.arange(0, 2.0, 5e-4)
     force = 2500.0 * np.sin(2 * np.pi * 1.3 * t) + 800.0 * np.sin(2 * np.pi * 17.0 * t)
     z, dp, w_true = _table_with_specimen(specimen, force, 5e-4)
     # Exact data: w_FE reproduces w to rounding.
-    np.testing.assert_allclose(force_from_equilibrium(z, dp, M_ST, A_P), w_true,
-                               atol=1e-9 * np.max(np.abs(w_true)))
+    np.testing.assert_allclose(
+        force_from_equilibrium(z, dp, M_ST, A_P), w_true, atol=1e-9 * np.max(np.abs(w_true))
+    )
     # Through the noiseless 16-bit sensors: error <= m_st*LSB/2*|scale_acc| + A_p*LSB/2*400.
     suite = SensorSuite.report_default()
-    meas = suite.measure(suite.channel_values(table_acceleration=z, differential_pressure=dp,
-                                              interface_force=w_true)).values
+    meas = suite.measure(
+        suite.channel_values(table_acceleration=z, differential_pressure=dp, interface_force=w_true)
+    ).values
     w_fe = force_from_equilibrium(meas[:, 0], meas[:, 2], M_ST, A_P)
     bound = 0.5 * LSB * (M_ST * 0.6711 * G0 + A_P * 400.0)
     assert np.max(np.abs(w_fe - w_true)) <= bound * (1 + 1e-9)

@@ -71,7 +71,7 @@ def test_rk4_kernel_reaches_frequency_response_in_steady_state():
     m, f_n, zeta, f = 1.5, 8.0, 0.1, 6.0
     spec = LinearMDOF.with_modal_damping([m], [[m * (2 * math.pi * f_n) ** 2]], zeta)
     ss = spec.state_space()
-    dt, n = 5e-4, 8000   # 4 s, > 30 time constants of 1/(zeta w_n)
+    dt, n = 5e-4, 8000  # 4 s, > 30 time constants of 1/(zeta w_n)
     t = np.arange(n + 1) * dt
     z = np.sin(2 * math.pi * f * t)
     x = np.zeros(ss.n_states)

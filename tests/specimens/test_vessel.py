@@ -20,17 +20,22 @@ import scipy.special
 
 from impedance_mil.errors import ConfigError
 from impedance_mil.specimens import FluidVessel, LinearMDOF, RigidMass
-from impedance_mil.specimens.vessel import (convective_frequencies_hz, convective_mass_ratios,
-                                            impulsive_mass_ratio)
+from impedance_mil.specimens.vessel import (
+    convective_frequencies_hz,
+    convective_mass_ratios,
+    impulsive_mass_ratio,
+)
 
-G = 386.089            # in/s^2
+G = 386.089  # in/s^2
 TABLE_WEIGHT = 1600.0  # lbf, shake-table moving weight (Section 8.2: mass ratio denominator)
 R_INNER = 24.0 - 3.0 / 16.0
 WATER = 62.4 / 1728.0  # lbf/in^3, fresh water
 
 
-@pytest.mark.parametrize("depth, weight, ratio", [
-    (0.0, 1200.0, 0.75), (18.0, 2370.0, 1.5), (30.0, 3200.0, 2.0), (42.0, 3980.0, 2.5)])
+@pytest.mark.parametrize(
+    "depth, weight, ratio",
+    [(0.0, 1200.0, 0.75), (18.0, 2370.0, 1.5), (30.0, 3200.0, 2.0), (42.0, 3980.0, 2.5)],
+)
 def test_weights_and_mass_ratios_of_section_8_2(depth, weight, ratio):
     vessel = FluidVessel(depth)
     # Water weight from geometry, computed independently of the package.
@@ -68,8 +73,9 @@ def test_convective_period_against_malhotra_cc(gamma, c_c):
     assert 1.0 / f == pytest.approx(c_c * math.sqrt(radius_m), rel=0.005)
 
 
-@pytest.mark.parametrize("gamma, m_i", [
-    (0.3, 0.176), (0.5, 0.300), (1.0, 0.548), (1.5, 0.686), (2.0, 0.763), (3.0, 0.842)])
+@pytest.mark.parametrize(
+    "gamma, m_i", [(0.3, 0.176), (0.5, 0.300), (1.0, 0.548), (1.5, 0.686), (2.0, 0.763), (3.0, 0.842)]
+)
 def test_impulsive_mass_ratio_against_table(gamma, m_i):
     # Three printed decimals: tolerance half a unit of the last digit plus margin.
     assert impulsive_mass_ratio(gamma) == pytest.approx(m_i, abs=6e-4)
@@ -105,8 +111,7 @@ def test_flexible_impulsive_mode_is_above_60_hz():
 def test_mass_bookkeeping_and_low_frequency_limit():
     vessel = FluidVessel.report_default()
     osc = vessel.oscillators()
-    assert [o.name for o in osc] == ["convective-1", "convective-2", "convective-3",
-                                     "impulsive-flexible"]
+    assert [o.name for o in osc] == ["convective-1", "convective-2", "convective-3", "impulsive-flexible"]
     assert vessel.rigid_mass + sum(o.mass for o in osc) == pytest.approx(vessel.total_mass, rel=1e-12)
     # w = -m_total z as f -> 0 (quasi-static), 1e-6 relative at 1e-4 Hz
     # (first sloshing mode at 0.87 Hz: (1e-4/0.87)^2 ~ 1e-8 dynamic correction).
@@ -143,7 +148,10 @@ SPECIMENS = [
     RigidMass(1600.0),
     LinearMDOF.shear_building([800.0, 600.0, 400.0], [2000.0, 1500.0, 1000.0], 0.03, 300.0),
     LinearMDOF([1.0, 2.0], [[300.0, -100.0], [-100.0, 200.0]], [[0.5, 0.0], [0.0, 0.0]]),
-    FluidVessel(0.0), FluidVessel(18.0), FluidVessel.report_default(), FluidVessel(42.0),
+    FluidVessel(0.0),
+    FluidVessel(18.0),
+    FluidVessel.report_default(),
+    FluidVessel(42.0),
     FluidVessel(30.0, n_convective_modes=1, flexible_impulsive_fraction=0.4),
 ]
 

@@ -26,7 +26,7 @@ def _smooth_case(name):
     O(dt**4) and third order is observable; the test checks the regime.
     """
     vs = presets.get(name)
-    x0 = np.array([0.0, 5.0, 0.2])[:vs.n_states]  # in, in/s, h
+    x0 = np.array([0.0, 5.0, 0.2])[: vs.n_states]  # in, in/s, h
     a_g = -200.0 + np.linspace(0.0, 50.0, N_HOLD)  # in/s^2, pushes the basemat forward
     w = np.linspace(0.0, 300.0, N_HOLD)  # lbf
     return vs, x0, a_g, w

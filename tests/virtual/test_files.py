@@ -40,17 +40,20 @@ def test_overrides_accumulate():
     assert props["f"].value == 1.25
 
 
-@pytest.mark.parametrize("text, key", [
-    ('kind = "SD"\nm_vs = 0\nk_s = 1\nc = 1\n', "m_vs"),
-    ('kind = "SD"\nm_vs = 1\nk_s = -1\nc = 1\n', "k_s"),
-    ('kind = "LR"\nm_vs = 1\nk_i = 100\nalpha = 0.1\nq_d = 0\nc = 0\n', "q_d"),
-    ('kind = "LR"\nq_ratio = 0.1\nT_s = 2\nu_y = 0\n', "u_y"),
-    ('kind = "FP"\nmu_max = 0.05\nmu_min = 0.1\nT_s = 2\n', "mu_min"),
-    ('kind = "XY"\n', "kind"),
-    ('kind = "SD"\nf = 1\nzeta = 0.1\nk_i = 5\n', "k_i"),
-    ('kind = "SD"\nm_vs = 1\nk_s = 1\n', "c"),
-    ('preset = "LR9"\n', "preset"),
-])
+@pytest.mark.parametrize(
+    "text, key",
+    [
+        ('kind = "SD"\nm_vs = 0\nk_s = 1\nc = 1\n', "m_vs"),
+        ('kind = "SD"\nm_vs = 1\nk_s = -1\nc = 1\n', "k_s"),
+        ('kind = "LR"\nm_vs = 1\nk_i = 100\nalpha = 0.1\nq_d = 0\nc = 0\n', "q_d"),
+        ('kind = "LR"\nq_ratio = 0.1\nT_s = 2\nu_y = 0\n', "u_y"),
+        ('kind = "FP"\nmu_max = 0.05\nmu_min = 0.1\nT_s = 2\n', "mu_min"),
+        ('kind = "XY"\n', "kind"),
+        ('kind = "SD"\nf = 1\nzeta = 0.1\nk_i = 5\n', "k_i"),
+        ('kind = "SD"\nm_vs = 1\nk_s = 1\n', "c"),
+        ('preset = "LR9"\n', "preset"),
+    ],
+)
 def test_bad_files_name_the_key(tmp_path, text, key):
     with pytest.raises(ConfigError) as exc:
         load(_write(tmp_path, text))
@@ -62,15 +65,24 @@ def test_unreadable_file(tmp_path):
         load(_write(tmp_path, "kind = [unclosed\n"))
 
 
-@pytest.mark.parametrize("cls, kwargs, key", [
-    (SpringDamper, dict(m_vs=-1.0, k_s=1.0, c=0.0), "m_vs"),
-    (SpringDamper, dict(m_vs=1.0, k_s=0.0, c=0.0), "k_s"),
-    (LeadRubber, dict(m_vs=1.0, k_i=10.0, alpha=1.0, q_d=1.0, c=0.0), "alpha"),
-    (FrictionPendulum, dict(m_vs=1.0, k_s=1.0, mu_max=0.05, mu_min=0.06, a=1.0, u_y=0.04, w_ps=0.0),
-     "mu_min"),
-    (FrictionPendulum, dict(m_vs=1.0, k_s=1.0, mu_max=0.05, mu_min=0.01, a=1.0, u_y=0.0, w_ps=0.0),
-     "u_y"),
-])
+@pytest.mark.parametrize(
+    "cls, kwargs, key",
+    [
+        (SpringDamper, dict(m_vs=-1.0, k_s=1.0, c=0.0), "m_vs"),
+        (SpringDamper, dict(m_vs=1.0, k_s=0.0, c=0.0), "k_s"),
+        (LeadRubber, dict(m_vs=1.0, k_i=10.0, alpha=1.0, q_d=1.0, c=0.0), "alpha"),
+        (
+            FrictionPendulum,
+            dict(m_vs=1.0, k_s=1.0, mu_max=0.05, mu_min=0.06, a=1.0, u_y=0.04, w_ps=0.0),
+            "mu_min",
+        ),
+        (
+            FrictionPendulum,
+            dict(m_vs=1.0, k_s=1.0, mu_max=0.05, mu_min=0.01, a=1.0, u_y=0.0, w_ps=0.0),
+            "u_y",
+        ),
+    ],
+)
 def test_constructors_validate(cls, kwargs, key):
     with pytest.raises(ConfigError) as exc:
         cls(**kwargs)

@@ -35,8 +35,6 @@ TABLE_9_3 = {
 }
 
 
-
-
 def _close_int(computed, printed):
     """Tolerance of the integer columns (see the module docstring)."""
     return abs(computed - printed) <= 1.0 + 1e-3 * printed
@@ -90,8 +88,9 @@ def test_table_9_3_basemat_mass_erratum():
     """
     for name, (_, _, _, k_i, k_s) in TABLE_9_3.items():
         printed_mass = presets.get(name, m_vs=2150.0 / G0)
-        rebuilt = presets.targets(name).__class__(**{**presets.targets(name).__dict__,
-                                                     "m_vs": 2150.0 / G0}).build()
+        rebuilt = (
+            presets.targets(name).__class__(**{**presets.targets(name).__dict__, "m_vs": 2150.0 / G0}).build()
+        )
         assert printed_mass.k_s == presets.get(name).k_s  # model-level override keeps k_s
         assert rebuilt.k_s / k_s - 1.0 > 0.02
         assert rebuilt.k_i / k_i - 1.0 > 0.02
@@ -129,8 +128,9 @@ def test_listing_fig_7_10_is_lr1_with_a_2150_lb_basemat():
     with 2150 + 3600 lb (a total weight of about 5758 lb, rounding of g).
     """
     listing = LeadRubber(m_vs=2150.0 / 386.0, k_i=1442.75, alpha=0.102, q_d=518.21, c=0.287, n=2.0)
-    design = presets.targets("LR1").__class__(**{**presets.targets("LR1").__dict__,
-                                                 "m_vs": 2150.0 / G0}).build()
+    design = (
+        presets.targets("LR1").__class__(**{**presets.targets("LR1").__dict__, "m_vs": 2150.0 / G0}).build()
+    )
     assert design.k_i == pytest.approx(listing.k_i, rel=2e-3)
     assert design.q_d == pytest.approx(listing.q_d, rel=2e-3)
     assert design.alpha == pytest.approx(listing.alpha, abs=5e-4)

@@ -28,8 +28,17 @@ def test_rigid_storeys_reduce_to_spring_damper():
     their influence at 10 Hz is of order (10/5000)^2 = 4e-6.
     """
     soft = example_two_storey()
-    vs = IsolatedTwoStorey(m_vs=soft.m_vs, m_b=soft.m_b, m_1=soft.m_1, k_b=soft.k_b, c_b=soft.c_b,
-                           k_1=soft.k_1 * 1e6, c_1=0.0, k_2=soft.k_2 * 1e6, c_2=0.0)
+    vs = IsolatedTwoStorey(
+        m_vs=soft.m_vs,
+        m_b=soft.m_b,
+        m_1=soft.m_1,
+        k_b=soft.k_b,
+        c_b=soft.c_b,
+        k_1=soft.k_1 * 1e6,
+        c_1=0.0,
+        k_2=soft.k_2 * 1e6,
+        c_2=0.0,
+    )
     m = vs.m_b + vs.m_1 + vs.m_vs
     f = np.logspace(-1, 1, 30)
     lp = vs.linear_part()
@@ -57,8 +66,10 @@ def test_simulation_matches_linear_part():
     w = 100.0 * np.sin(2 * np.pi * 4.0 * t)
     r = vs.simulate(a_g, w, dt)
     lp = vs.linear_part()
-    z = (scipy.signal.lsim((lp.H_zag.num, lp.H_zag.den), a_g, t)[1]
-         + scipy.signal.lsim((lp.H_zw.num, lp.H_zw.den), w, t)[1])
+    z = (
+        scipy.signal.lsim((lp.H_zag.num, lp.H_zag.den), a_g, t)[1]
+        + scipy.signal.lsim((lp.H_zw.num, lp.H_zw.den), w, t)[1]
+    )
     assert np.abs(z - r.z_vs).max() / np.abs(r.z_vs).max() < 5e-3
 
 
@@ -70,8 +81,10 @@ def test_python_rk3_is_third_order():
     w = np.linspace(0.0, 200.0, 10)
     x0 = np.array([0.1, 0.2, 0.3, 1.0, -1.0, 2.0])
     ref = reference_states(vs, a_g, w, hold, x0=x0)[-1]
-    errors = [np.max(np.abs(vs.simulate(np.repeat(a_g, m), np.repeat(w, m), hold / m, x0=x0).final_state
-                            - ref)) for m in (2, 4, 8)]
+    errors = [
+        np.max(np.abs(vs.simulate(np.repeat(a_g, m), np.repeat(w, m), hold / m, x0=x0).final_state - ref))
+        for m in (2, 4, 8)
+    ]
     orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
     assert np.all((orders > 2.8) & (orders < 3.3)), orders
 
