@@ -72,3 +72,34 @@ class LimitTripped(ImilError, RuntimeError):
         if detail:
             msg += f": {detail}"
         super().__init__(msg)
+
+
+class MotionRefused(ImilError, ValueError):
+    """A motion exceeds the table's limits and the caller did not ask to run it anyway."""
+
+
+class NotEvaluatedError(ImilError, KeyError):
+    """A result was asked for something it does not hold (e.g. constraints at an unevaluated f_c)."""
+
+    def __str__(self) -> str:  # KeyError would quote the message
+        return str(self.args[0]) if self.args else ""
+
+
+class MissingDependencyError(ImilError, RuntimeError):
+    """An optional package needed for this operation is not installed (the message says which)."""
+
+
+class IncompleteModelError(ImilError, NotImplementedError):
+    """A user-defined model lacks a method the operation needs (the message names it)."""
+
+
+class ImproperSystemError(ImilError, ValueError):
+    """An improper transfer function was given where a proper one is required."""
+
+
+class SingularSystemError(ImilError, ZeroDivisionError):
+    """A transfer function with a zero denominator, or the inverse of a zero transfer function."""
+
+
+class OperandError(ImilError, TypeError):
+    """A system was combined with an object it cannot be combined with."""

@@ -22,6 +22,7 @@ import control
 import numpy as np
 import scipy.signal
 
+from .errors import ConfigError, ImproperSystemError, OperandError, SingularSystemError
 from .units import TWO_PI
 
 #: Default relative tolerance for pole-zero cancellation.
@@ -105,7 +106,7 @@ class TransferFunction:
         num = _trim(self.num)
         den = _trim(self.den)
         if den.size == 1 and den[0] == 0:
-            raise ZeroDivisionError("transfer function with a zero denominator")
+            raise SingularSystemError("transfer function with a zero denominator")
         lead = den[0]
         object.__setattr__(self, "num", num / lead)
         object.__setattr__(self, "den", den / lead)
@@ -250,7 +251,7 @@ class TransferFunction:
     def inv(self) -> TransferFunction:
         """The reciprocal ``den/num`` (may be improper)."""
         if self.is_zero:
-            raise ZeroDivisionError("inverse of a zero transfer function")
+            raise SingularSystemError("inverse of a zero transfer function")
         return TransferFunction(self.den, self.num)
 
     def feedback(self, other=1.0, sign: int = -1) -> TransferFunction:
@@ -308,7 +309,7 @@ class TransferFunction:
         """
         o = self._coerce(other)
         if o is NotImplemented:
-            raise TypeError(f"cannot multiply a TransferFunction by {type(other).__name__}")
+            raise OperandError(f"cannot multiply a TransferFunction by {type(other).__name__}")
         left = TransferFunction(self.num, o.den).minreal(rtol)
         right = TransferFunction(o.num, self.den).minreal(rtol)
         return (left * right).minreal(rtol)
@@ -317,7 +318,7 @@ class TransferFunction:
         """Quotient ``self/other`` with factor-wise cancellation (see :meth:`mul_cancel`)."""
         o = self._coerce(other)
         if o is NotImplemented:
-            raise TypeError(f"cannot divide a TransferFunction by {type(other).__name__}")
+            raise OperandError(f"cannot divide a TransferFunction by {type(other).__name__}")
         return self.mul_cancel(o.inv(), rtol)
 
     # ------------------------------------------------------------ comparisons
@@ -338,7 +339,7 @@ class TransferFunction:
     def to_ss(self):
         """Controllable-canonical state space ``(A, B, C, D)`` of a proper function."""
         if not self.is_proper:
-            raise ValueError("an improper transfer function has no state-space realization")
+            raise ImproperSystemError("an improper transfer function has no state-space realization")
         A, B, C, D = scipy.signal.tf2ss(self.num, self.den)
         return A, B, C, D
 
@@ -348,16 +349,16 @@ class TransferFunction:
 
         Raises
         ------
-        ValueError
-            ``data`` is not a mapping with numeric lists ``num`` and ``den``.
+        ConfigError
+            ``data`` is not a mapping with numeric lists ``num`` and ``den`` (a ValueError).
         """
         try:
             num = np.asarray(data["num"], dtype=float)
             den = np.asarray(data["den"], dtype=float)
         except (KeyError, TypeError, ValueError) as exc:
-            raise ValueError(f"expected {{'num': [...], 'den': [...]}} ({exc})") from None
+            raise ConfigError("transfer function", f"{{'num': [...], 'den': [...]}} ({exc})") from None
         if num.ndim != 1 or den.ndim != 1 or not (np.all(np.isfinite(num)) and np.all(np.isfinite(den))):
-            raise ValueError("num and den must be flat lists of finite numbers")
+            raise ConfigError("transfer function", "num and den as flat lists of finite numbers")
         return cls(num, den)
 
     def to_dict(self) -> dict:

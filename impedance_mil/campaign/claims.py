@@ -19,6 +19,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..lab.feedback import LEGACY_NAMES, Feedback
+from ..lab.runfile import legacy_value
 from .runmetrics import AGREEMENT_TOLERANCE
 from .summary import SummaryTable
 
@@ -237,17 +239,20 @@ def _error_by(rows: SummaryTable, key: str, metric: str, **where: Any) -> dict[A
     """Mean of a metric over motions, per value of ``key``."""
     sums: dict[Any, list[float]] = {}
     for row in rows.where(**where).rows:
-        value = row.get(metric)
+        value = legacy_value(row, metric)
         if isinstance(value, (int, float)) and row.get("status") == "ok":
-            sums.setdefault(row.get(key), []).append(float(value))
+            group = row.get(key)
+            if key == "feedback" and isinstance(group, str):  # older summaries: load_cells ...
+                group = LEGACY_NAMES.get(group, group)
+            sums.setdefault(group, []).append(float(value))
     return {k: sum(v) / len(v) for k, v in sums.items()}
 
 
 def _feedback_sources(rows: SummaryTable) -> tuple:
-    err = _error_by(rows, "feedback", "spectral_error_low", water_depth=42.0)
-    if "load_cells" not in err or "none" not in err:
+    err = _error_by(rows, "feedback", "spectral_error_0p25_15hz", water_depth=42.0)
+    if Feedback.LOAD_CELLS.value not in err or Feedback.NONE.value not in err:
         return NOT_RUN, "the 42 in runs with load cells and without u_w are missing", (), "", "", False
-    ok = err["none"] >= MEANINGFUL_RATIO * err["load_cells"]
+    ok = err[Feedback.NONE.value] >= MEANINGFUL_RATIO * err[Feedback.LOAD_CELLS.value]
     text = "mean spectral error 0.25-15 Hz at 42 in: " + ", ".join(f"{k} {v:.3g}" for k, v in err.items())
     names = tuple(err)
     curve = Curve("toolkit (mean of motions)", tuple(range(len(names))), tuple(err[n] for n in names))
@@ -267,7 +272,7 @@ def _worse_than(key: str, worse: float, better: float, label: str, **where: Any)
     scope = " at 42 in" if where else ""
 
     def evaluate(rows: SummaryTable) -> tuple:
-        err = _error_by(rows, key, "spectral_error_low", **where)
+        err = _error_by(rows, key, "spectral_error_0p25_15hz", **where)
         if worse not in err or better not in err:
             return (
                 NOT_RUN,

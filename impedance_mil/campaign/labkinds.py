@@ -1,14 +1,23 @@
 """Virtual-lab campaign kinds: ``frf`` (Section 4.5), ``tracking`` (Section 8), ``mil`` (Section 9).
 
-Each adapter turns a run configuration (plain data, internal units) into a
-call of :mod:`impedance_mil.lab.experiments`, writes the run's HDF5 file with
-:func:`impedance_mil.lab.results.save_run` and returns its metrics: those of
-:func:`impedance_mil.lab.metrics.evaluate_run` (``spectral_error_low``,
-``spectral_error_high``, ``nrms_error``, ``peak_error``, ``energy_error``)
-plus ``spectral_agreement_hz`` and ``hf_ratio`` of
+Each adapter turns a run configuration (plain data, internal units) into the
+experiment description of :mod:`impedance_mil.lab.descriptions` that
+``imil frf``/``track``/``simulate`` build too, runs it, writes the run file
+with :func:`impedance_mil.lab.runfile.write_run_file` (the same summary
+attribute and ``imil/frf`` group as the CLI's) and returns its metrics under
+the shared names of :mod:`impedance_mil.lab.runfile`
+(``spectral_error_0p25_15hz``, ``spectral_error_15_50hz``, ``nrms_error``,
+``peak_error``, ``energy_error``, ``simulated_s``, ``aborted``,
+``abort_reason``, ``trip_limit``/``trip_time_s``/``trip_value``) plus
+``spectral_agreement_hz`` and ``hf_ratio`` of
 :mod:`impedance_mil.campaign.runmetrics`.  A run that trips a safety limit
 returns ``aborted = True`` with the trip as ``abort_reason`` (its data up to
 the trip are kept).
+
+The kinds' defaults are the report's setup (:mod:`impedance_mil.report_config`).
+The feedback names are those of :class:`impedance_mil.lab.feedback.Feedback`
+(``lc``, ``fe``, ``none``); campaign files with the older ``load_cells`` and
+``force_equilibrium`` are still read.
 """
 
 from __future__ import annotations
@@ -16,20 +25,41 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from ..lab.experiments import ControlledRun, run_frf, run_mil, run_tracking
-from ..lab.results import save_run
-from ..signals.multisine import report_multisine
+from ..lab.descriptions import (
+    FRF_BANDS_HZ,
+    ControllerChoice,
+    FrfTest,
+    LabChoice,
+    MilTest,
+    MotionChoice,
+    SpecimenChoice,
+    TrackingTest,
+)
+from ..lab.experiments import ControlledRun
+from ..lab.feedback import LEGACY_NAMES, Feedback
+from ..lab.runfile import TRIP_KEYS, flat_summary, run_summary, write_run_file
+from ..lab.setup import SafetyLimits
+from ..report_config import report_config
 from ..specimens.vessel import FluidVessel
 from ..units import INTERNAL_UNITS
+from ..virtual.files import VSSpec
 from .modelkinds import CONTROLLER_PARAMS, TABLE_PARAMS, VS_PARAMS, table_parameters, virtual_system
-from .motions import REPORT_MOTIONS, motion_source, report_motion
+from .motions import REPORT_MOTIONS, TIME_SCALE, motion_source, report_motion
 from .params import Param
 from .runmetrics import tracking_metrics
 
-#: Feedback sources of Section 8.3.2: name -> (lab feedback channel, compensate with u_w).
-FEEDBACK_SOURCES = {"load_cells": ("lc", True), "force_equilibrium": ("fe", True), "none": ("lc", False)}
+#: Feedback names a campaign accepts (the older spellings are read as the shared names).
+FEEDBACK_NAMES = tuple(f.value for f in Feedback)
+#: Metrics of an FRF run: its end, the identified parameters and the model errors.
+FRF_METRICS = (
+    *TRIP_KEYS,
+    "omega_oil_rad_s",
+    "f_oil_hz",
+    "zeta_oil",
+    "d",
+    "identification_error",
+    *FRF_BANDS_HZ,
+)
 
 SPECIMEN_PARAMS: dict[str, Param] = {
     "specimen": Param(
@@ -76,8 +106,9 @@ RUN_PARAMS: dict[str, Param] = {
     "feedback": Param(
         "controller.feedback",
         type="choice",
-        choices=tuple(FEEDBACK_SOURCES),
-        help="source of w (Section 8.3.2): load_cells, force_equilibrium, none (u_w = 0)",
+        choices=FEEDBACK_NAMES,
+        aliases=LEGACY_NAMES,
+        help="source of w (Section 8.3.2): lc (load cells), fe (force equilibrium), none (u_w = 0)",
     ),
     "precision": Param(
         "controller.precision",
@@ -102,8 +133,9 @@ MIL_PARAMS: dict[str, Param] = {
     "feedback": Param(
         "controller.feedback",
         type="choice",
-        choices=("load_cells", "force_equilibrium"),
-        help="source of w (Appendix C): load_cells or force_equilibrium",
+        choices=tuple(n for n in FEEDBACK_NAMES if Feedback(n).compensates),
+        aliases=LEGACY_NAMES,
+        help="source of w (Appendix C): lc (load cells) or fe (force equilibrium)",
     ),
     "m_vs": Param(
         "vs.m_vs",
@@ -113,9 +145,19 @@ MIL_PARAMS: dict[str, Param] = {
     ),
 }
 
-_MOTION_DEFAULTS = {"name": "GM1", "motions_dir": None, "scale": 1.0, "duration": None}
-_CONTROLLER_DEFAULTS = {"fc_hz": 80.0, "feedback": "load_cells", "precision": "single"}
-FRF_DEFAULTS: dict[str, Any] = {"table": {}, "specimen": {"kind": "bare", "water_depth": 36.0}, "seed": 0}
+_REPORT = report_config()
+_MOTION_DEFAULTS = {"name": _REPORT.motion.record, "motions_dir": None, "scale": 1.0, "duration": None}
+_CONTROLLER_DEFAULTS = {
+    "fc_hz": _REPORT.design.fc_hz,
+    "feedback": _REPORT.controller.feedback,
+    "precision": _REPORT.controller.precision,
+}
+FRF_DEFAULTS: dict[str, Any] = {
+    "table": {},
+    "specimen": {"kind": "bare", "water_depth": _REPORT.specimen.water_depth_in},
+    "seed": 0,
+}
+#: Tracking runs default to the empty vessel (the first depth of Section 8.2's study, 0 in).
 TRACKING_DEFAULTS: dict[str, Any] = {
     "table": {},
     "specimen": {"kind": "vessel", "water_depth": 0.0},
@@ -125,17 +167,25 @@ TRACKING_DEFAULTS: dict[str, Any] = {
 }
 MIL_DEFAULTS: dict[str, Any] = {
     **TRACKING_DEFAULTS,
-    "specimen": {"kind": "vessel", "water_depth": 36.0},
-    "vs": {"preset": "SD2", "m_vs_ratio": None, "m_vs": None},
+    "specimen": {"kind": "vessel", "water_depth": _REPORT.specimen.water_depth_in},
+    "vs": {"preset": _REPORT.vs_preset, "m_vs_ratio": None, "m_vs": None},
 }
 
-#: Bands of the FRF model error [Hz]: the whole multisine band, and the oil-column band of Figure 4.16.
-FRF_BANDS_HZ = {"model_error": (0.25, 100.0), "model_error_10_50hz": (10.0, 50.0)}
 
-
-def _specimen(config: dict[str, Any]) -> FluidVessel | None:
+def _specimen(config: dict[str, Any]) -> SpecimenChoice:
     spec = config["specimen"]
-    return FluidVessel(water_depth_in=float(spec["water_depth"])) if spec["kind"] == "vessel" else None
+    if spec["kind"] != "vessel":
+        return SpecimenChoice(None, "bare table", 0.0)
+    depth = float(spec["water_depth"])
+    vessel = FluidVessel(water_depth_in=depth)
+    return SpecimenChoice(
+        vessel, f"vessel with {depth:g} in of water ({vessel.total_weight:.0f} lb)", vessel.total_weight
+    )
+
+
+def _lab(config: dict[str, Any]) -> LabChoice:
+    limits = SafetyLimits(stroke=_REPORT.limits.stroke_in, velocity=_REPORT.limits.velocity_in_s)
+    return LabChoice(limits, None, _REPORT.controller.substeps, int(config["seed"]))
 
 
 def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
@@ -147,37 +197,25 @@ def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     Returns
     -------
     dict
-        ``model_error`` (0.25-100 Hz) and ``model_error_10_50hz``: rms ``|log(H_model/H_meas)|``
-        of ``z/u`` (0.01 is about 1 %); for the bare table also the identified
-        ``f_oil_hz`` [Hz], ``zeta_oil`` and ``identification_error``; after a
-        trip, ``aborted`` and ``abort_reason`` (the run's data are kept).
+        ``model_error_0p25_100hz`` and ``model_error_10_50hz``: rms
+        ``|log(H_model/H_meas)|`` of ``z/u`` (0.01 is about 1 %); for the bare
+        table also the identified ``omega_oil_rad_s``, ``f_oil_hz`` [Hz],
+        ``zeta_oil``, ``d`` and ``identification_error``; ``simulated_s``;
+        after a trip, ``aborted`` and ``abort_reason`` (the run's data are kept).
     """
-    params = table_parameters(config)
-    specimen = _specimen(config)
-    multisine = report_multisine(params.loop_time)
-    exp = run_frf(
-        params, multisine=multisine, specimen=specimen, identify=specimen is None, seed=int(config["seed"])
+    test = FrfTest(
+        table_parameters(config),
+        _specimen(config),
+        _REPORT.frf.peak_in,
+        _REPORT.frf.delay,
+        (),
+        _lab(config),
+        {},
     )
-    if not exp.completed:
-        save_run(exp.run, out_path)
-        return _aborted(exp.run)
-    z = exp.frf["z"]
-    save_run(
-        exp.run,
-        out_path,
-        extra_groups={
-            "frf": {"f_hz": z.frequency_hz, "H_zu_measured": z.response, "H_zu_model": exp.model["z"]}
-        },
-    )
-    metrics = {name: exp.model_error("z", band) for name, band in FRF_BANDS_HZ.items()}
-    if exp.identification is not None:
-        ident = exp.identification.summary()
-        metrics.update(
-            f_oil_hz=ident["f_oil_hz"],
-            zeta_oil=ident["zeta_oil"],
-            identification_error=ident["rms_log_error"],
-        )
-    return metrics
+    outcome = test.run()
+    summary = test.summary(outcome)
+    write_run_file(outcome.experiment.run, out_path, summary, test.arrays(outcome, summary))
+    return {k: v for k, v in flat_summary(summary).items() if k in FRF_METRICS or k.startswith("trip_")}
 
 
 def resolve_motion(config: dict[str, Any]) -> dict[str, Any]:
@@ -187,65 +225,54 @@ def resolve_motion(config: dict[str, Any]) -> dict[str, Any]:
     return config
 
 
-def _motion(config: dict[str, Any]):
+def _motion(config: dict[str, Any]) -> tuple[MotionChoice, str]:
     m = config["motion"]
-    return report_motion(m["name"], m.get("motions_dir"), float(m.get("scale", 1.0)), m.get("duration"))
+    scale = float(m.get("scale", 1.0))
+    motion, source = report_motion(m["name"], m.get("motions_dir"), scale, m.get("duration"))
+    pga = REPORT_MOTIONS[m["name"]].pga_scaled_g * scale
+    return MotionChoice(motion, m["name"], TIME_SCALE, pga, m.get("duration")), source
 
 
-def _controlled_metrics(result: ControlledRun, source: str, out_path: Path) -> dict[str, Any]:
+def _controller(config: dict[str, Any]) -> ControllerChoice:
+    ctrl = config["controller"]
+    return ControllerChoice(float(ctrl["fc_hz"]), Feedback.parse(ctrl["feedback"]), ctrl["precision"])
+
+
+def _controlled_metrics(
+    test: TrackingTest, result: ControlledRun, source: str, out_path: Path
+) -> dict[str, Any]:
     run = result.run
-    save_run(run, out_path)
-    metrics: dict[str, Any] = {"motion_source": source, "duration_s": run.n_samples * run.loop_time}
-    if run.n_samples > 1:
-        metrics["peak_table_disp_in"] = float(np.max(np.abs(run.x)))
+    write_run_file(run, out_path, test.summary(result), test.arrays(result))
+    metrics: dict[str, Any] = {"motion_source": source}
+    metrics.update({k: v for k, v in flat_summary(run_summary(run, result.metrics)).items() if k != "mode"})
     if result.metrics is not None:
-        metrics.update({k: v for k, v in result.metrics.to_dict().items() if v is not None})
         metrics.update(tracking_metrics(run.z_meas, run.z_vs, run.loop_time))
-    if run.trip is not None:
-        metrics.update(_aborted(run))
     return metrics
-
-
-def _aborted(run) -> dict[str, Any]:
-    return {"aborted": True, "abort_reason": str(run.trip.as_exception())}
 
 
 def run_tracking_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """Acceleration tracking of a report motion (Section 8); see the module docstring."""
-    params = table_parameters(config)
     motion, source = _motion(config)
-    ctrl = config["controller"]
-    feedback, compensate = FEEDBACK_SOURCES[ctrl["feedback"]]
-    result = run_tracking(
-        params,
-        motion,
-        specimen=_specimen(config),
-        fc_hz=float(ctrl["fc_hz"]),
-        feedback=feedback,
-        compensate=compensate,
-        precision=ctrl["precision"],
-        seed=int(config["seed"]),
+    test = TrackingTest(
+        table_parameters(config), _specimen(config), motion, _controller(config), _lab(config), {}
     )
-    return _controlled_metrics(result, source, out_path)
+    return _controlled_metrics(test, test.run(), source, out_path)
 
 
 def run_mil_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """MIL imitating a virtual isolation system (Section 9); see the module docstring."""
     params = table_parameters(config)
     motion, source = _motion(config)
-    ctrl = config["controller"]
-    feedback, _ = FEEDBACK_SOURCES[ctrl["feedback"]]
     vs = virtual_system(config, params.mass)
-    result = run_mil(
+    test = MilTest(
         params,
-        vs,
+        _specimen(config),
         motion,
-        specimen=_specimen(config),
-        fc_hz=float(ctrl["fc_hz"]),
-        feedback=feedback,
-        precision=ctrl["precision"],
-        seed=int(config["seed"]),
+        _controller(config),
+        _lab(config),
+        {},
+        vs_spec=VSSpec(config["vs"]["preset"], vs),
     )
-    metrics = _controlled_metrics(result, source, out_path)
+    metrics = _controlled_metrics(test, test.run(), source, out_path)
     metrics["m_vs_over_m_st"] = vs.m_vs / params.mass
     return metrics

@@ -29,53 +29,20 @@ the summary table and the reproduction report.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from collections.abc import Mapping
 from pathlib import Path
 
 from ..errors import DataFileError
+from ..report_config import ReportMotion, report_config
 from ..signals import GroundMotion, builtin_motion, fema_available, read_at2, read_fema_p695
+from ..signals.sources import FEMA_PREFIX, parse_fema
 
-#: Time compression of the report's motions (Section 8.2).
-TIME_SCALE = 2.0
-
-
-@dataclass(frozen=True)
-class ReportMotion:
-    """One motion of report Table 8.1.
-
-    Attributes
-    ----------
-    name : str
-        ``GM1``, ``GM2`` or ``GM3``.
-    rsn : int
-        PEER record sequence number of the seed.
-    earthquake : str
-        Event and component.
-    pga_original_g, pga_scaled_g : float
-        PGA of the seed and of the scaled motion [g].
-    fema_substitute : tuple of (str, int, str) or None
-        FEMA P695 (set, record, component) used without the PEER file.
-    builtin_substitute : str
-        Built-in record used otherwise.
-    """
-
-    name: str
-    rsn: int
-    earthquake: str
-    pga_original_g: float
-    pga_scaled_g: float
-    fema_substitute: tuple[str, int, str] | None
-    builtin_substitute: str
+#: Time compression of the report's motions (Section 8.2), from the report's setup file.
+TIME_SCALE = report_config().motion.time_scale
 
 
-#: Report Table 8.1.
-REPORT_MOTIONS: dict[str, ReportMotion] = {
-    "GM1": ReportMotion("GM1", 6, "Imperial Valley-02, 1940, NS", 0.28, 0.8, None, "elcentro"),
-    "GM2": ReportMotion(
-        "GM2", 864, "Chalfant Valley-06, 1986, NS", 0.27, 0.6, ("farfield", 14, "a"), "elcentro"
-    ),
-    "GM3": ReportMotion("GM3", 2632, "Chi-Chi, 1999, NS", 0.14, 0.4, ("farfield", 20, "b"), "elcentro"),
-}
+#: Report Table 8.1 (``data/report/config.toml``, sections ``[motions.*]``).
+REPORT_MOTIONS: Mapping[str, ReportMotion] = report_config().motions
 
 _NS_SUFFIX = re.compile(r"(N|NS|000|360|180)\.AT2$", re.IGNORECASE)
 _VERTICAL = re.compile(r"(UP|DWN|V)\.AT2$", re.IGNORECASE)
@@ -117,8 +84,7 @@ def motion_source(name: str, motions_dir: str | Path | None = None) -> str:
         if path is not None:
             return f"peer:{path.name}"
     if spec.fema_substitute is not None and fema_available():
-        record_set, record, component = spec.fema_substitute
-        return f"fema:{record_set}:{record}{component}"
+        return parse_fema(spec.fema_substitute, f"motions.{name}.fema").source
     return f"builtin:{spec.builtin_substitute}"
 
 
@@ -136,11 +102,10 @@ def seed_motion(name: str, motions_dir: str | Path | None = None) -> tuple[Groun
     kind, _, key = source.partition(":")
     if kind == "peer":
         return read_at2(Path(motions_dir) / key), f"PEER {key}"
-    if kind == "fema":
-        record_set, record = key.split(":")
-        return read_fema_p695(
-            record_set, int(record[:-1]), record[-1]
-        ), f"substitute FEMA P695 {record_set} {record}"
+    if source.startswith(FEMA_PREFIX):
+        rec = parse_fema(source)
+        motion = read_fema_p695(rec.record_set, rec.record, rec.component)
+        return motion, f"substitute FEMA P695 {rec.record_set} {rec.record}{rec.component}"
     original = REPORT_MOTIONS[name].rsn == 6 and key == "elcentro"
     return builtin_motion(key), f"{'' if original else 'substitute '}built-in {key}"
 

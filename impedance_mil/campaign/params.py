@@ -13,7 +13,7 @@ integer or a boolean.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..config import quantity
@@ -40,6 +40,8 @@ class Param:
         For ``"quantity"``: range check passed to :func:`impedance_mil.config.quantity`.
     choices : tuple of str
         For ``"choice"``: the allowed names.
+    aliases : mapping of str to str
+        For ``"choice"``: older spellings still read, each as the name it stands for.
     help : str
         One-line description (shown by ``imil campaign params KIND``).
     """
@@ -49,6 +51,7 @@ class Param:
     unit: str = "dimensionless"
     check: str = "any"
     choices: tuple[str, ...] = ()
+    aliases: Mapping[str, str] = field(default_factory=dict, hash=False)
     help: str = ""
 
     def convert(self, key: str, raw: Any) -> Any:
@@ -69,6 +72,7 @@ class Param:
         if self.type == "quantity":
             return quantity(key, raw, self.unit, self.check)
         if self.type == "choice":
+            raw = self.aliases.get(raw, raw) if isinstance(raw, str) else raw
             if not isinstance(raw, str) or raw not in self.choices:
                 raise ConfigError(key, "one of " + ", ".join(self.choices), raw)
             return raw

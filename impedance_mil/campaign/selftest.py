@@ -20,7 +20,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from ..errors import ConfigError
+from ..errors import ConfigError, ImilError
 from ..units import INTERNAL_UNITS, TWO_PI
 from .params import Param
 
@@ -61,7 +61,7 @@ SELFTEST_DEFAULTS: dict[str, Any] = {
 }
 
 
-class SelftestFailure(RuntimeError):
+class SelftestFailure(ImilError, RuntimeError):
     """The failure a ``selftest`` run raises on request (``fail = true``)."""
 
 

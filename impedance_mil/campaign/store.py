@@ -26,6 +26,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..errors import DataFileError
 from ..fileio import atomic_write_text, json_safe
 
 #: Number of hex digits of the sha256 kept in a run name (48 bits).
@@ -117,11 +118,12 @@ class RunRecord:
         Raises
         ------
         ValueError
-            Not a record (bad JSON, missing fields, unknown status).
+            Not a record: bad JSON (json.JSONDecodeError), or missing fields or an
+            unknown status (DataFileError).
         """
         data = json.loads(text)
         if not isinstance(data, dict) or data.get("status") not in STATUSES:
-            raise ValueError("not a run record")
+            raise DataFileError("run record", "not a run record (a JSON object with a known status)")
         data["studies"] = tuple(data.get("studies", ()))
         return cls(**data)
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..errors import DataFileError
+from ..errors import DataFileError, MissingDependencyError
 from ..fileio import atomic_write_bytes, atomic_write_text, read_text
 from .spec import CampaignSpec
 from .store import CampaignStore
@@ -186,11 +186,11 @@ def to_parquet_bytes(table: SummaryTable) -> bytes:
 
     Raises
     ------
-    RuntimeError
-        pyarrow is not installed.
+    MissingDependencyError
+        pyarrow is not installed (a RuntimeError).
     """
     if parquet is None:
-        raise RuntimeError("writing Parquet needs pyarrow")
+        raise MissingDependencyError("writing Parquet needs pyarrow")
     arrow = pyarrow.table({c: _arrow_column(table.column(c)) for c in table.columns})
     sink = pyarrow.BufferOutputStream()
     parquet.write_table(arrow, sink)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -23,8 +25,22 @@ def print_json(data: Any) -> None:
     print(json.dumps(json_safe(data), indent=2))
 
 
+@contextmanager
+def option_errors(options: Mapping[str, str]) -> Iterator[None]:
+    """Re-raise a library :class:`ConfigError` on a key of ``options`` as one naming the option.
+
+    The library names its keys (``form``); the user typed an option (``--form``).
+    """
+    try:
+        yield
+    except ConfigError as exc:
+        if exc.key not in options:
+            raise
+        raise ConfigError(options[exc.key], exc.expected, exc.got) from None
+
+
 def table_parameters(table: Path | None, sets: list[str] | None = None) -> TableParameters:
-    """``--table`` (default report Table 4.1) with ``--set`` overrides (errors name the key or file)."""
+    """``--table`` (default the report's Table 4.1) with ``--set`` overrides (errors name the key or file)."""
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
 
 

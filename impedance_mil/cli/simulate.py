@@ -8,7 +8,11 @@
 * ``imil frf``: the multisine test of Section 4.5 and the identification of
   omega_oil, zeta_oil and d; ``--kp-study`` repeats it for several K_p.
 
-Defaults are the report's configuration (see :mod:`impedance_mil.cli.runopts`).
+An option left out takes the report's value from the report's setup file
+(``impedance_mil/data/report/config.toml``, read by
+:mod:`impedance_mil.lab.choices`); the JSON lists each such value under
+``from_report``.  The experiment is the library's
+(:mod:`impedance_mil.lab.descriptions`): this module parses, calls and prints.
 Before a controlled run the motion is checked against the table's limits
 with the specimen on it (Section 8.2); a motion over a limit is refused
 unless ``--force``.  For a MIL run the VS basemat motion the table will
@@ -27,64 +31,80 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 import typer
 
-from ..config import parse_overrides, quantity
+from ..config import parse_overrides
 from ..errors import ConfigError
-from ..lab import ControlledRun, FrfExperiment, kp_study, run_frf, run_mil, run_tracking
-from ..plant import TableParameters
-from ..signals.multisine import report_multisine
+from ..lab.choices import Choices, frf_test, mil_test, tracking_test
+from ..lab.descriptions import FRF_DELAYS, FrfTest, TrackingTest
+from ..lab.experiments import ControlledRun
+from ..lab.pretest import Pretest
+from ..lab.runfile import MODEL_LOOP, write_run_file
+from ..report.runpage import write_run_page
+from ..report_config import report_config
 from ..virtual import presets
-from ..virtual.files import VSSpec, resolve
-from .common import console, positive_numbers, print_json, table_parameters
+from .common import console, positive_numbers, print_json
 from .motion import SOURCE_HELP, UNITS_HELP
-from .report_cmd import MODEL_LOOP, model_loop, write_report
 from .runopts import (
-    DEFAULT_FC_HZ,
-    DEFAULT_MOTION,
-    DEFAULT_TIME_SCALE,
+    CHOICE_OPTIONS,
     EXIT_ABORTED,
     EXIT_INTERRUPTED,
     SPECIMEN_HELP,
-    MotionChoice,
-    Pretest,
-    SpecimenChoice,
     Written,
     activity,
-    check_choice,
     design_lines,
-    enforce_pretest,
     err_console,
-    feedback_choice,
-    motion_choice,
     output_path,
     percent,
-    pretest,
-    run_summary,
-    specimen_choice,
-    trip_text,
-    write_run_file,
+    refuse_or_warn,
+    report_defaults_line,
 )
 
-TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default report Table 4.1.")
+_REPORT = report_config()
+_GM = _REPORT.default_motion
+_KP_TEXT = ",".join(f"{kp:g}" for kp in _REPORT.frf.kp_values)
+
+TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default the report's Table 4.1.")
 SetOpt = typer.Option(None, "--set", help="Table value KEY=VALUE (repeatable), e.g. Kp=0.0006.")
-SpecimenOpt = typer.Option("vessel", "--specimen", help=SPECIMEN_HELP)
-WaterOpt = typer.Option(None, "--water-depth", help="Water in the vessel [in] (default 36; '0.9 m' works).")
-WeightOpt = typer.Option(None, "--specimen-weight", help="Weight of --specimen rigid [lbf] (default 3600).")
-MotionOpt = typer.Option(DEFAULT_MOTION, "--motion", help=SOURCE_HELP)
+SpecimenOpt = typer.Option(
+    None, "--specimen", help=SPECIMEN_HELP + f" Default the report's: {_REPORT.specimen.kind}."
+)
+WaterOpt = typer.Option(
+    None,
+    "--water-depth",
+    help=f"Water in the vessel [in] (default the report's {_REPORT.specimen.water_depth_in:g}; '0.9 m' works).",
+)
+WeightOpt = typer.Option(
+    None,
+    "--specimen-weight",
+    help=f"Weight of --specimen rigid [lbf] (default the report's article, {_REPORT.specimen.article_weight_lbf:g}).",
+)
+MotionOpt = typer.Option(
+    None,
+    "--motion",
+    help=SOURCE_HELP + f" Default the report's {_GM.name}: {_GM.builtin_substitute} (RSN {_GM.rsn}).",
+)
 UnitsOpt = typer.Option("g", "--units", help=UNITS_HELP)
 TimeScaleOpt = typer.Option(
-    DEFAULT_TIME_SCALE, "--time-scale", help="Compress time by this factor (t' = t/F; report Section 8.2: 2)."
+    None,
+    "--time-scale",
+    help=f"Compress time by this factor (t' = t/F; default the report's {_REPORT.motion.time_scale:g}, Section 8.2).",
 )
 PgaOpt = typer.Option(
     None,
     "--pga",
-    help="Scale to this PGA [g]; default for elcentro: 0.8 (Table 8.1, GM1); other motions: as recorded.",
+    help=f"Scale to this PGA [g]; default for {_GM.builtin_substitute}: {_GM.pga_scaled_g:g} (Table 8.1, {_GM.name}); "
+    "other motions: as recorded.",
 )
 DurationOpt = typer.Option(None, "--duration", help="Run only the first S seconds of the scaled motion [s].")
-FcOpt = typer.Option(DEFAULT_FC_HZ, "--fc", help="Filter cut-off [Hz] (report: 80).")
-PrecisionOpt = typer.Option("single", "--precision", help="Controller arithmetic: single (RMC75E) or double.")
+FcOpt = typer.Option(
+    None, "--fc", help=f"Filter cut-off [Hz] (default the report's {_REPORT.design.fc_hz:g})."
+)
+PrecisionOpt = typer.Option(
+    None,
+    "--precision",
+    help=f"Controller arithmetic: single (RMC75E) or double (default the report's {_REPORT.controller.precision}).",
+)
 SeedOpt = typer.Option(0, "--seed", help="Sensor-noise seed (non-negative integer).")
 OutOpt = typer.Option(..., "-o", "--output", help="Run file to write (HDF5).")
 ReportOpt = typer.Option(None, "--report", help="Also write the HTML report of the run.")
@@ -94,69 +114,23 @@ ForceOpt = typer.Option(
 )
 OverwriteOpt = typer.Option(False, "--overwrite", help="Replace existing output files.")
 
-#: Bands of the FRF model error [Hz]: the identification band, and the oil-column band (Figure 4.16).
-FRF_BANDS_HZ = {"model_error_0p25_100hz": (0.25, 100.0), "model_error_10_50hz": (10.0, 50.0)}
-#: K_p values of Sections 4.5.3.1 and 8.3.3 [V/psi].
-REPORT_KP_VALUES = "0.0002,0.0006,0.001,0.0014"
-#: Delay treatments of the linear model (plant.LinearTable).
-DELAYS = ("none", "first-order", "pade", "sampled")
 
-
-@dataclass(frozen=True)
-class ControlledRequest:
-    """A tracking or MIL run, resolved from the command line.
-
-    Attributes
-    ----------
-    params : TableParameters
-        Table model (the virtual table is derived from it).
-    specimen : SpecimenChoice
-    motion : MotionChoice
-    vs_spec : VSSpec or None
-        The virtual system; None for tracking.
-    fc_hz : float
-        Filter cut-off [Hz].
-    feedback : str
-        ``lc``, ``fe`` or ``none`` (tracking without u_w).
-    precision : str
-        ``single`` or ``double``.
-    seed : int
-        Sensor-noise seed.
-    """
-
-    params: TableParameters
-    specimen: SpecimenChoice
-    motion: MotionChoice
-    vs_spec: VSSpec | None
-    fc_hz: float
-    feedback: str
-    precision: str
-    seed: int
-
-    @property
-    def kind(self) -> str:
-        return "track" if self.vs_spec is None else "mil"
-
-    def describe(self) -> dict:
-        """The request as plain data (for the JSON output and the run file's summary)."""
-        return {
-            "kind": self.kind,
-            "vs": None if self.vs_spec is None else self.vs_spec.name,
-            "specimen": self.specimen.label,
-            "specimen_weight_lbf": self.specimen.weight_lbf,
-            "motion": self.motion.to_dict(),
-            "fc_hz": self.fc_hz,
-            "feedback": self.feedback,
-            "precision": self.precision,
-            "seed": self.seed,
-        }
+def choices(**options) -> Choices:
+    """The run choices of the options (``--set``/``--set-vs`` parsed; None: not chosen)."""
+    sets, sets_vs = options.pop("sets", None), options.pop("sets_vs", None)
+    return Choices(
+        table_overrides=parse_overrides(sets),
+        vs_overrides=parse_overrides(sets_vs, option="--set-vs"),
+        keys=CHOICE_OPTIONS,
+        **options,
+    )
 
 
 @dataclass
 class Outcome:
-    """What a controlled run produced: the lab result, the pre-test check, warnings and files."""
+    """What a controlled run produced: the test, its pre-test check, warnings, result and files."""
 
-    request: ControlledRequest
+    test: TrackingTest
     pre: Pretest | None = None
     warnings: list[str] = field(default_factory=list)
     result: ControlledRun | None = None
@@ -165,103 +139,36 @@ class Outcome:
     elapsed_s: float = 0.0
 
 
-def build_request(
-    *,
-    vs: str | None,
-    table,
-    sets,
-    specimen,
-    water_depth,
-    specimen_weight,
-    sets_vs,
-    motion,
-    units,
-    time_scale,
-    pga,
-    duration,
-    fc,
-    feedback,
-    precision,
-    seed,
-) -> ControlledRequest:
-    """Resolve and validate every option (raises ImilError naming the option)."""
-    params = table_parameters(table, sets)
-    feedback_choice(feedback, allow_none=vs is None)
-    check_choice("--precision", precision, ("single", "double"))
-    if seed < 0:
-        raise ConfigError("--seed", "a non-negative integer", seed)
-    vs_spec = resolve(vs, parse_overrides(sets_vs, option="--set-vs")) if vs is not None else None
-    return ControlledRequest(
-        params,
-        specimen_choice(specimen, water_depth, specimen_weight),
-        motion_choice(motion, units, time_scale, pga, duration),
-        vs_spec,
-        quantity("--fc", fc, "hertz", "positive"),
-        feedback,
-        precision,
-        seed,
-    )
-
-
-def execute(request: ControlledRequest) -> ControlledRun:
-    """Design the controller and run the loop (``lab.experiments.run_tracking`` / ``run_mil``)."""
-    channel, compensate = feedback_choice(request.feedback, allow_none=request.vs_spec is None)
-    common = dict(
-        specimen=request.specimen.specimen,
-        fc_hz=request.fc_hz,
-        feedback=channel,
-        precision=request.precision,
-        seed=request.seed,
-    )
-    if request.vs_spec is None:
-        return run_tracking(request.params, request.motion.motion, compensate=compensate, **common)
-    return run_mil(request.params, request.vs_spec.vs, request.motion.motion, **common)
-
-
 def check(outcome: Outcome, *, force: bool) -> None:
-    """Pre-test check of ``outcome.request`` (refuses a motion over the limits unless ``force``)."""
-    request = outcome.request
-    vs = None if request.vs_spec is None else request.vs_spec.vs
-    outcome.pre = pretest(request.params, request.specimen, request.motion.motion, vs)
-    outcome.warnings = enforce_pretest(outcome.pre, request.motion, force)
+    """Pre-test check of ``outcome.test`` (refuses a motion over the limits unless ``force``)."""
+    test = outcome.test
+    outcome.pre = test.pretest()
+    outcome.warnings = refuse_or_warn(outcome.pre.findings(test.motion.motion, test.motion.time_scale), force)
 
 
 def perform(outcome: Outcome, out: Path, report: Path | None, *, quiet: bool) -> Outcome:
-    """Run the checked ``outcome.request``, then write the run file (and the report).
+    """Run the checked ``outcome.test``, then write the run file (and the report).
 
     ``outcome`` is filled in as the work proceeds, so that after an interrupt
     it says which files were already written.
     """
-    request = outcome.request
-    loops = int(round(request.motion.motion.duration / request.params.loop_time))
+    test = outcome.test
+    gm = test.motion.motion
+    loops = int(round(gm.duration / test.table.loop_time))
     start = time.perf_counter()
     with activity(
-        not quiet,
-        f"{request.kind}: designing and running {request.motion.motion.duration:.2f} s (about {loops} loops)",
+        not quiet, f"{test.kind}: designing and running {gm.duration:.2f} s (about {loops} loops)"
     ) as step:
-        result = execute(request)
+        result = test.run()
         outcome.elapsed_s = time.perf_counter() - start
         outcome.result = result
-        doc = {
-            **request.describe(),
-            **run_summary(result.run, result.metrics),
-            "pretest": outcome.pre.to_dict(),
-            "warnings": outcome.warnings,
-            "design": {
-                "form": result.design.form,
-                "fc_hz": result.design.fc_hz,
-                "constraints": result.design.constraint_at(result.design.fc_hz).to_dict(),
-                "notes": list(result.design.warnings),
-            },
-        }
-        loop = {} if request.vs_spec is None else model_loop(result.run, request.vs_spec.vs)
+        doc = test.summary(result, outcome.pre, tuple(outcome.warnings))
+        arrays = test.arrays(result)
         step(f"writing {out}")
-        outcome.written.paths.append(
-            write_run_file(result.run, out, doc, {MODEL_LOOP: loop} if loop else None)
-        )
+        outcome.written.paths.append(write_run_file(result.run, out, doc, arrays))
         if report is not None:
             step(f"writing {report}")
-            outcome.written.paths.append(write_report(result.run, doc, report, loop=loop))
+            outcome.written.paths.append(write_run_page(result.run, doc, report, loop=arrays.get(MODEL_LOOP)))
     outcome.document = {**doc, "file": str(out), "report": None if report is None else str(report)}
     return outcome
 
@@ -269,17 +176,18 @@ def perform(outcome: Outcome, out: Path, report: Path | None, *, quiet: bool) ->
 def print_outcome(outcome: Outcome) -> None:
     """The run on the terminal: configuration, pre-test check, design verdicts, status, metrics, files."""
     say = lambda text: console.print(text, markup=False)  # noqa: E731  (units like [g] stay literal)
-    req, doc, pre = outcome.request, outcome.document, outcome.pre
-    gm = req.motion.motion
-    head = "MIL run, VS " + req.vs_spec.name if req.vs_spec is not None else "tracking run"
+    test, doc, pre = outcome.test, outcome.document, outcome.pre
+    gm = test.motion.motion
+    head = "MIL run, VS " + test.vs_name if test.vs_name is not None else "tracking run"
     say(
-        f"{head}: {gm.name}, time-compressed x{req.motion.time_scale:g}, PGA {gm.pga_g:.3f} g, "
+        f"{head}: {gm.name}, time-compressed x{test.motion.time_scale:g}, PGA {gm.pga_g:.3f} g, "
         f"{gm.duration:.2f} s"
     )
     say(
-        f"  specimen: {req.specimen.label}; feedback: {req.feedback}; f_c {req.fc_hz:g} Hz; "
-        f"{req.precision} precision; seed {req.seed}"
+        f"  specimen: {test.specimen.label}; feedback: {test.controller.feedback.value}; "
+        f"f_c {test.controller.fc_hz:g} Hz; {test.controller.precision} precision; seed {test.lab.seed}"
     )
+    say(report_defaults_line(dict(test.from_report)))
     checks = ", ".join(f"{c.name} {c.peak:.4g}/{c.limit:.4g} {c.unit}" for c in pre.input.checks)
     say(f"pre-test check of the input motion: {checks}: {'fits' if pre.input.ok else 'EXCEEDS'}")
     if pre.basemat is not None:
@@ -324,7 +232,7 @@ def warn(lines: list[str]) -> None:
 
 
 def run_command(
-    request: ControlledRequest,
+    test: TrackingTest,
     output: Path,
     report: Path | None,
     *,
@@ -337,7 +245,7 @@ def run_command(
     page = output_path("--report", report, overwrite)
     if page is not None and page.resolve() == out.resolve():
         raise ConfigError("--report", "a path other than the run file (-o)", str(report))
-    outcome = Outcome(request)
+    outcome = Outcome(test)
     check(outcome, force=force)
     warn(outcome.warnings)
     try:
@@ -356,24 +264,31 @@ def run_command(
 
 def simulate(
     table: Path | None = TableOpt,
-    specimen: str = SpecimenOpt,
+    specimen: str | None = SpecimenOpt,
     water_depth: str | None = WaterOpt,
     specimen_weight: str | None = WeightOpt,
-    vs: str = typer.Option(
-        "SD2", "--vs", help="VS preset (" + ", ".join(presets.names()) + ") or VS file (TOML)."
+    vs: str | None = typer.Option(
+        None,
+        "--vs",
+        help="VS preset ("
+        + ", ".join(presets.names())
+        + f") or VS file (TOML); default the report's {_REPORT.vs_preset}.",
     ),
     sets: list[str] | None = SetOpt,
     sets_vs: list[str] | None = typer.Option(None, "--set-vs", help="VS value KEY=VALUE (repeatable)."),
-    motion: str = MotionOpt,
+    motion: str | None = MotionOpt,
     units: str = UnitsOpt,
-    time_scale: float = TimeScaleOpt,
+    time_scale: float | None = TimeScaleOpt,
     pga: float | None = PgaOpt,
     duration: float | None = DurationOpt,
-    fc: float = FcOpt,
-    feedback: str = typer.Option(
-        "lc", "--feedback", help="Source of w: lc (load cells) or fe (force equilibrium, Section 8.3.2)."
+    fc: float | None = FcOpt,
+    feedback: str | None = typer.Option(
+        None,
+        "--feedback",
+        help="Source of w: lc (load cells) or fe (force equilibrium, Section 8.3.2); "
+        f"default the report's {_REPORT.controller.feedback}.",
     ),
-    precision: str = PrecisionOpt,
+    precision: str | None = PrecisionOpt,
     seed: int = SeedOpt,
     output: Path = OutOpt,
     report: Path | None = ReportOpt,
@@ -382,45 +297,48 @@ def simulate(
     overwrite: bool = OverwriteOpt,
 ) -> None:
     """MIL run: the table imitates a virtual isolation system under a ground motion (Section 9)."""
-    request = build_request(
-        vs=vs,
-        table=table,
-        sets=sets,
-        specimen=specimen,
-        water_depth=water_depth,
-        specimen_weight=specimen_weight,
-        sets_vs=sets_vs,
-        motion=motion,
-        units=units,
-        time_scale=time_scale,
-        pga=pga,
-        duration=duration,
-        fc=fc,
-        feedback=feedback,
-        precision=precision,
-        seed=seed,
+    test = mil_test(
+        choices(
+            vs=vs,
+            table=table,
+            sets=sets,
+            specimen=specimen,
+            water_depth=water_depth,
+            specimen_weight=specimen_weight,
+            sets_vs=sets_vs,
+            motion=motion,
+            units=units,
+            time_scale=time_scale,
+            pga_g=pga,
+            duration=duration,
+            fc_hz=fc,
+            feedback=feedback,
+            precision=precision,
+            seed=seed,
+        )
     )
-    run_command(request, output, report, force=force, overwrite=overwrite, as_json=as_json)
+    run_command(test, output, report, force=force, overwrite=overwrite, as_json=as_json)
 
 
 def track(
     table: Path | None = TableOpt,
-    specimen: str = SpecimenOpt,
+    specimen: str | None = SpecimenOpt,
     water_depth: str | None = WaterOpt,
     specimen_weight: str | None = WeightOpt,
     sets: list[str] | None = SetOpt,
-    motion: str = MotionOpt,
+    motion: str | None = MotionOpt,
     units: str = UnitsOpt,
-    time_scale: float = TimeScaleOpt,
+    time_scale: float | None = TimeScaleOpt,
     pga: float | None = PgaOpt,
     duration: float | None = DurationOpt,
-    fc: float = FcOpt,
-    feedback: str = typer.Option(
-        "lc",
+    fc: float | None = FcOpt,
+    feedback: str | None = typer.Option(
+        None,
         "--feedback",
-        help="Source of w: lc (load cells), fe (force equilibrium) or none (u_w = 0); Section 8.3.2.",
+        help="Source of w: lc (load cells), fe (force equilibrium) or none (u_w = 0); Section 8.3.2; "
+        f"default the report's {_REPORT.controller.feedback}.",
     ),
-    precision: str = PrecisionOpt,
+    precision: str | None = PrecisionOpt,
     seed: int = SeedOpt,
     output: Path = OutOpt,
     report: Path | None = ReportOpt,
@@ -429,25 +347,25 @@ def track(
     overwrite: bool = OverwriteOpt,
 ) -> None:
     """Acceleration tracking: the table reproduces the ground motion under the specimen (Section 8)."""
-    request = build_request(
-        vs=None,
-        table=table,
-        sets=sets,
-        specimen=specimen,
-        water_depth=water_depth,
-        specimen_weight=specimen_weight,
-        sets_vs=None,
-        motion=motion,
-        units=units,
-        time_scale=time_scale,
-        pga=pga,
-        duration=duration,
-        fc=fc,
-        feedback=feedback,
-        precision=precision,
-        seed=seed,
+    test = tracking_test(
+        choices(
+            table=table,
+            sets=sets,
+            specimen=specimen,
+            water_depth=water_depth,
+            specimen_weight=specimen_weight,
+            motion=motion,
+            units=units,
+            time_scale=time_scale,
+            pga_g=pga,
+            duration=duration,
+            fc_hz=fc,
+            feedback=feedback,
+            precision=precision,
+            seed=seed,
+        )
     )
-    run_command(request, output, report, force=force, overwrite=overwrite, as_json=as_json)
+    run_command(test, output, report, force=force, overwrite=overwrite, as_json=as_json)
 
 
 def kp_list(text: str) -> list[float]:
@@ -455,91 +373,6 @@ def kp_list(text: str) -> list[float]:
     return positive_numbers(
         "--kp-values", text, "comma-separated K_p values in V/psi", "positive K_p values in V/psi"
     )
-
-
-def identified(exp: FrfExperiment) -> dict:
-    """omega_oil [rad/s], f_oil [Hz], zeta_oil, d and the misfit identified from z/u (bare table)."""
-    if exp.identification is None:
-        return {}
-    p = exp.identification.parameters
-    return {
-        "omega_oil_rad_s": p.omega_oil,
-        "f_oil_hz": p.f_oil_hz,
-        "zeta_oil": p.zeta_oil,
-        "d": p.d,
-        "identification_error": exp.identification.rms_log_error,
-    }
-
-
-def kp_row(kp: float, exp: FrfExperiment) -> dict:
-    """One row of the K_p study: identified parameters and misfit (None after a trip, with the reason)."""
-    ident = identified(exp)
-    return {
-        "Kp": kp,
-        **{key: ident.get(key) for key in ("omega_oil_rad_s", "f_oil_hz", "zeta_oil", "d")},
-        "misfit": ident.get("identification_error"),
-        "abort_reason": trip_text(exp.run),
-    }
-
-
-def frf_document(exp: FrfExperiment, spec: SpecimenChoice, params: TableParameters, kps, study) -> dict:
-    """The JSON / stored summary of an FRF experiment (no FRF figures after a trip)."""
-    ms = exp.multisine
-    f = ms.frequencies_hz
-    errors = (
-        {name: exp.model_error("z", band) for name, band in FRF_BANDS_HZ.items()} if exp.completed else {}
-    )
-    return {
-        "kind": "frf",
-        "specimen": spec.label,
-        "specimen_weight_lbf": spec.weight_lbf,
-        "simulated_s": exp.run.n_samples * exp.run.loop_time,
-        "aborted": not exp.completed,
-        "abort_reason": trip_text(exp.run),
-        "multisine": {
-            "peak_in": float(np.max(np.abs(ms.period))),
-            "lines": int(ms.lines.size),
-            "f_min_hz": float(f.min()),
-            "f_max_hz": float(f.max()),
-            "period_s": ms.n_points / ms.sample_rate_hz,
-            "n_periods": ms.n_periods,
-            "crest_factor": ms.crest_factor,
-        },
-        "delay": exp.delay,
-        "seed": exp.run.config.get("seed"),
-        **identified(exp),
-        **errors,
-        "table_file": {
-            "omega_oil_rad_s": params.omega_oil,
-            "f_oil_hz": params.f_oil_hz,
-            "zeta_oil": params.zeta_oil,
-            "d": params.d,
-            "Kp": params.Kp,
-        },
-        "kp_study": [kp_row(kp, e) for kp, e in zip(kps, study)],
-    }
-
-
-def frf_arrays(exp: FrfExperiment, doc: dict) -> dict:
-    """Arrays stored with an FRF run: the z/u FRF and the model (none after a trip), and the K_p study.
-
-    In ``kp_study`` a run stopped by an interlock has NaN parameters and misfit.
-    """
-    arrays = {}
-    if exp.completed:
-        z = exp.frf["z"]
-        arrays["frf"] = {
-            "f_hz": z.frequency_hz,
-            "H_zu_measured": z.response,
-            "H_zu_model": exp.model["z"],
-            "coherence_zu": z.coherence,
-        }
-    if doc["kp_study"]:
-        arrays["kp_study"] = {
-            key: np.array([row[key] for row in doc["kp_study"]], dtype=float)
-            for key in ("Kp", "f_oil_hz", "zeta_oil", "d", "misfit")
-        }
-    return arrays
 
 
 def print_frf(doc: dict, path: Path) -> None:
@@ -587,23 +420,34 @@ def print_frf(doc: dict, path: Path) -> None:
 
 def frf(
     table: Path | None = TableOpt,
-    specimen: str = typer.Option("none", "--specimen", help=SPECIMEN_HELP + " Identification needs none."),
+    specimen: str | None = typer.Option(
+        None, "--specimen", help=SPECIMEN_HELP + " Default none: identification needs the bare table."
+    ),
     water_depth: str | None = WaterOpt,
     specimen_weight: str | None = WeightOpt,
     sets: list[str] | None = SetOpt,
-    peak: str = typer.Option(
-        "0.1", "--peak", help="Peak of the multisine position command [in] (Section 4.5.2)."
+    peak: str | None = typer.Option(
+        None,
+        "--peak",
+        help=f"Peak of the multisine position command [in] (default the report's {_REPORT.frf.peak_in:g}, "
+        "Section 4.5.2).",
     ),
-    delay: str = typer.Option(
-        "first-order",
+    delay: str | None = typer.Option(
+        None,
         "--delay",
-        help="Delay model of the linear model compared and identified: " + ", ".join(DELAYS) + ".",
+        help="Delay model of the linear model compared and identified: "
+        + ", ".join(FRF_DELAYS)
+        + f" (default the report's {_REPORT.frf.delay}).",
     ),
     seed: int = SeedOpt,
     kp_study_flag: bool = typer.Option(
         False, "--kp-study", help="Repeat the test and identification for each --kp-values (bare table)."
     ),
-    kp_values: str = typer.Option(REPORT_KP_VALUES, "--kp-values", help="K_p values of the study [V/psi]."),
+    kp_values: str | None = typer.Option(
+        None,
+        "--kp-values",
+        help="K_p values of the study [V/psi] (default the report's " + _KP_TEXT + ").",
+    ),
     output: Path = OutOpt,
     as_json: bool = JsonOpt,
     overwrite: bool = OverwriteOpt,
@@ -612,40 +456,24 @@ def frf(
 
     A run stopped by a safety interlock is written up to the trip (no FRF, no K_p study) and exits 3.
     """
-    params = table_parameters(table, sets)
-    spec = specimen_choice(specimen, water_depth, specimen_weight)
-    amplitude = quantity("--peak", peak, "inch", "positive")
-    check_choice("--delay", delay, DELAYS)
-    if seed < 0:
-        raise ConfigError("--seed", "a non-negative integer", seed)
-    kps = kp_list(kp_values) if kp_study_flag else []
-    if kps and spec.specimen is not None:
-        raise ConfigError(
-            "--kp-study", "--specimen none (the identification is of the bare table, Section 4.5.3)", specimen
-        )
-    out = output_path("-o", output, overwrite)
-    multisine = report_multisine(params.loop_time, peak=amplitude)
+    test = frf_test(
+        choices(
+            table=table,
+            sets=sets,
+            specimen=specimen,
+            water_depth=water_depth,
+            specimen_weight=specimen_weight,
+            seed=seed,
+        ),
+        peak=peak,
+        delay=delay,
+        kp_values=None if kp_values is None else tuple(kp_list(kp_values)),
+        kp_study=kp_study_flag,
+    )
+    output_path("-o", output, overwrite)
+    out = output
     try:
-        with activity(not as_json, "frf: multisine test and identification", total=1 + len(kps)) as step:
-            exp = run_frf(
-                params,
-                multisine=multisine,
-                specimen=spec.specimen,
-                delay=delay,
-                identify=spec.specimen is None,
-                seed=seed,
-            )
-            if not exp.completed:
-                kps = []
-            study = []
-            for kp in kps:
-                step(f"K_p study: K_p = {kp:g} V/psi", advance=1)
-                study.append(
-                    kp_study(params, (kp,), multisine=multisine, delay=delay, seed=seed).experiments[0]
-                )
-            step(f"writing {out}", advance=1)
-            doc = frf_document(exp, spec, params, kps, study)
-            write_run_file(exp.run, out, doc, frf_arrays(exp, doc))
+        doc = run_frf_test(test, out, quiet=as_json)
     except KeyboardInterrupt:
         err_console.print("imil: interrupted (nothing written)", markup=False)
         raise typer.Exit(EXIT_INTERRUPTED) from None
@@ -661,3 +489,13 @@ def frf(
         print_frf(doc, out)
     if doc["aborted"]:
         raise typer.Exit(EXIT_ABORTED)
+
+
+def run_frf_test(test: FrfTest, out: Path, *, quiet: bool) -> dict:
+    """Run the FRF test with progress on stderr and write its run file; return its summary."""
+    with activity(not quiet, "frf: multisine test and identification", total=1 + len(test.kp_values)) as step:
+        outcome = test.run(on_step=lambda text: step(text, advance=1))
+        step(f"writing {out}", advance=1)
+        doc = test.summary(outcome)
+        write_run_file(outcome.experiment.run, out, doc, test.arrays(outcome, doc))
+    return doc

@@ -11,16 +11,9 @@ from pathlib import Path
 
 import typer
 
-from ..plant import LinearTable, TableParameters
-from ..plant.tuning import (
-    breakaway,
-    first_order_validity_limit,
-    labelled_poles,
-    recommend_kp,
-    stability_limit,
-)
+from ..plant import LinearTable
+from ..plant.tuning import pole_summary, tuning_summary
 from ..report import table_plots
-from ..systems import pole_table
 from .common import console, print_json, table_parameters
 
 app = typer.Typer(
@@ -67,17 +60,6 @@ def info(table: Path | None = TableOpt, set: list[str] | None = SetOpt, json: bo
         _say(f"{key:32s} {value}")
 
 
-def _poles_rows(p: TableParameters, delay: str, pade_order: int) -> list[dict]:
-    tbl = LinearTable(p, delay=delay, pade_order=pade_order)
-    rows = pole_table(tbl.poles())
-    if delay in ("none", "first-order"):
-        labels = {complex(m.pole): m.label for m in labelled_poles(p, delay)}
-        for row in rows:
-            q = complex(row["real"], row["imag"])
-            row["label"] = min(labels.items(), key=lambda kv: abs(kv[0] - q))[1]
-    return rows
-
-
 @app.command()
 def poles(
     table: Path | None = TableOpt,
@@ -87,9 +69,7 @@ def poles(
     pade_order: int = PadeOpt,
 ) -> None:
     """Closed-loop poles: frequency [Hz], damping [-], real/imag [rad/s]; reports instability."""
-    p = table_parameters(table, set)
-    rows = _poles_rows(p, delay, pade_order)
-    stable = LinearTable(p, delay=delay, pade_order=pade_order).is_stable()
+    stable, rows = pole_summary(table_parameters(table, set), delay, pade_order)
     if json:
         print_json({"poles": rows, "stable": stable, "delay": delay})
         return
@@ -161,22 +141,7 @@ def rlocus(
 @app.command()
 def tune(table: Path | None = TableOpt, set: list[str] | None = SetOpt, json: bool = JsonOpt) -> None:
     """Stability limits, break-away points and the K_p maximizing oil-column damping."""
-    p = table_parameters(table, set)
-    analog = p.replace(loop_time=0.0)
-    rec = recommend_kp(p)
-    limit = first_order_validity_limit(p)
-    data = {
-        "Ke_limit_analog_Kp0": stability_limit(analog.replace(Kp=0.0), "Ke", 100.0, "none"),
-        "Ke_limit": stability_limit(p, "Ke", 100.0),
-        "Kp_limit": stability_limit(p, "Kp", 0.05),
-        "Ke_breakaway_analog_Kp0": breakaway(analog.replace(Kp=0.0), "Ke", 100.0),
-        "Kp_breakaway_analog": breakaway(analog, "Kp", 0.01),
-        "recommended_Kp": rec.Kp,
-        "recommended_oil_damping": rec.damping,
-        "recommended_oil_frequency_hz": rec.frequency_hz,
-        "first_order_delay_valid_up_to_s": limit,
-        "stable": LinearTable(p).is_stable(),
-    }
+    data = tuning_summary(table_parameters(table, set))
     if json:
         print_json(data)
         return

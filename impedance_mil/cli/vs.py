@@ -10,17 +10,16 @@ Exit status: 0 on success; 2 for bad input (one line on stderr, nothing written)
 
 from __future__ import annotations
 
-import math
-
-import numpy as np
 import typer
 
 from ..config import parse_overrides, quantity
+from ..lab.vs_loops import harmonic_input, recorded_input, vs_loops
+from ..plant import TableParameters
 from ..report.motion_plots import check_figure_path
 from ..report.vs_plots import plot_loops, save_figure
+from ..report_config import report_config
 from ..units import G0, in_s2_to_g
-from ..virtual import TEST_ARTICLE_WEIGHT, presets
-from ..virtual.excitation import harmonic_ground_motion, rigid_article_response
+from ..virtual import presets
 from ..virtual.files import VSSpec, resolve
 from ..virtual.files import describe as describe_spec
 from .common import console, print_json
@@ -45,6 +44,11 @@ _SHORT_UNITS = {
     "second / inch": "s/in",
     "dimensionless": "-",
 }
+
+
+def report_loop_time() -> float:
+    """Loop time [s] of the report's table (Table 4.1, via the report's setup)."""
+    return TableParameters.report_default().loop_time
 
 
 def _spec(vs: str, sets: list[str] | None) -> VSSpec:
@@ -97,15 +101,6 @@ def describe(
         console.print(f"  {p.label:45s} {p.key:9s} {p.value:12.6g} {_SHORT_UNITS.get(p.unit, p.unit)}{extra}")
 
 
-def _article_weight(spec: VSSpec, text: str | None) -> float:
-    if text is not None:
-        return quantity("--article-weight", text, "force_pound", "nonnegative")
-    for source in (spec.vs, spec.targets):
-        if source is not None and hasattr(source, "w_ps"):
-            return float(source.w_ps)
-    return TEST_ARTICLE_WEIGHT
-
-
 @app.command("loops")
 def loops(
     vs: list[str] = typer.Argument(..., help=VS_HELP + " Several give overlaid loops."),
@@ -122,50 +117,37 @@ def loops(
     pga: float | None = typer.Option(None, help="Scale the recorded motion to this PGA [g]."),
     article_weight: str | None = typer.Option(
         None,
-        help="Weight of the rigid test article on the basemat (default: the VS's w_ps, "
-        "3600 lbf); '0' for the basemat alone.",
+        help="Weight of the rigid test article on the basemat (default: the VS's w_ps, else the report's "
+        f"article, {report_config().specimen.article_weight_lbf:g} lbf); '0' for the basemat alone.",
     ),
-    dt: float = typer.Option(0.0005, help="Integration step [s] (report loop time 0.0005 s)."),
+    dt: float | None = typer.Option(
+        None, help="Integration step [s] (default the loop time of the report's table, Table 4.1)."
+    ),
     normalize: bool = typer.Option(False, help="Plot shear force / axial load (Figure 9.1)."),
     sets: list[str] | None = typer.Option(None, "--set", help=SET_HELP),
     json_out: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
 ) -> None:
     """Force-displacement loops of one or more VS for a harmonic or recorded ground motion."""
     target = check_figure_path(output)
-    step = quantity("--dt", dt, "second", "positive")
+    step = quantity("--dt", dt if dt is not None else report_loop_time(), "second", "positive")
     specs = [_spec(name, sets) for name in vs]
     if motion is not None:
-        record = load_motion(motion, pga=pga)
-        substeps = max(1, math.ceil(record.time_step / step - 1e-9))
-        step = record.time_step / substeps
-        a_g = np.repeat(record.accel, substeps)  # held over each record sample
-        input_text = f"{record.name or motion}, {substeps} steps per sample"
+        loop_input = recorded_input(load_motion(motion, pga=pga), step, motion)
     else:
         amp = quantity("--amplitude", amplitude, "inch / second**2", "positive")
         freq = quantity("--frequency", frequency, "hertz", "positive")
-        a_g = harmonic_ground_motion(amp, freq, cycles, step)
-        input_text = f"{in_s2_to_g(amp):.3g} g at {freq:.3g} Hz"
-    responses, labels, loads, summary = [], [], [], []
-    for spec in specs:
-        m_article = _article_weight(spec, article_weight) / G0
-        r = rigid_article_response(spec.vs, a_g, step, m_article)
-        axial = spec.vs.m_vs * G0 + m_article * G0
-        responses.append(r)
-        labels.append(spec.name)
-        loads.append(axial)
-        summary.append(
-            {
-                "name": spec.name,
-                "kind": spec.vs.kind,
-                "peak_displacement": float(np.abs(r.displacement).max()),
-                "peak_force": float(np.abs(r.force).max()),
-                "peak_z_vs": float(np.abs(r.z_vs).max()),
-                "dissipated_energy": float(
-                    np.sum(0.5 * (r.force[1:] + r.force[:-1]) * np.diff(r.displacement))
-                ),
-                "axial_load": axial,
-            }
-        )
+        loop_input = harmonic_input(amp, freq, cycles, step)
+    weight = (
+        None
+        if article_weight is None
+        else quantity("--article-weight", article_weight, "force_pound", "nonnegative")
+    )
+    loops = vs_loops(specs, loop_input, weight)
+    responses = [loop.response for loop in loops]
+    labels = [loop.spec.name for loop in loops]
+    loads = [loop.axial_load for loop in loops]
+    summary = [loop.summary() for loop in loops]
+    input_text, step = loop_input.text, loop_input.dt
     fig = plot_loops(responses, labels, loads if normalize else None, title=f"Ground motion: {input_text}")
     save_figure(fig, target)
     if json_out:

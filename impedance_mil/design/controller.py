@@ -21,7 +21,8 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .. import __version__
-from ..errors import ConfigError, DesignWarning, ImilError, UnstableDesignError
+from ..errors import ConfigError, DesignWarning, NotEvaluatedError, UnstableDesignError
+from ..report_config import report_config
 from ..systems import TransferFunction
 from ..units import TWO_PI
 from .constraints import (
@@ -127,11 +128,11 @@ class ControllerDesign:
     software_version: str = __version__
 
     def constraint_at(self, fc_hz: float) -> ConstraintResult:
-        """The constraint result for a cut-off [Hz] (KeyError when not evaluated)."""
+        """The constraint result for a cut-off [Hz] (NotEvaluatedError, a KeyError, when not evaluated)."""
         for c in self.constraints:
             if np.isclose(c.fc_hz, fc_hz, rtol=1e-9):
                 return c
-        raise KeyError(f"constraints not evaluated at fc = {fc_hz} Hz")
+        raise NotEvaluatedError(f"constraints not evaluated at fc = {fc_hz} Hz")
 
     def to_json(self) -> dict:
         """The ``imil design --json`` document (see docs/design.md)."""
@@ -275,9 +276,9 @@ def design_controller(
     table: TableModel,
     vs: VirtualModel | None = None,
     *,
-    form: str = "standardized",
-    fc_hz: float = 80.0,
-    family: str = "butterworth",
+    fc_hz: float,
+    form: str | None = None,
+    family: str | None = None,
     order: int | None = None,
     ripple_db: float = 0.5,
     fc_w_hz: float | None = None,
@@ -296,11 +297,14 @@ def design_controller(
         Linear part of the VS.  Required for ``general`` and ``vs-specific``;
         for ``standardized`` it is used only to evaluate the constraints
         (without it they are evaluated as for tracking); ignored for ``tracking``.
-    form : str
-        One of :data:`~impedance_mil.design.forms.FORMS`.
     fc_hz : float
-        Cut-off [Hz], > 0.
-    family, order, ripple_db, fc_w_hz
+        Cut-off [Hz], > 0 (the report's is ``report_config().design.fc_hz``, 80 Hz).
+    form : str, optional
+        One of :data:`~impedance_mil.design.forms.FORMS`; default the report's
+        (``[design] form`` of the report's setup: standardized).
+    family : str, optional
+        Filter family; default the report's (``[design] filter``: butterworth).
+    order, ripple_db, fc_w_hz
         Filter choice (see :func:`filter_controller`).
     evaluate_fc_hz : sequence of float
         Further cut-offs [Hz] at which to evaluate the constraints.
@@ -332,6 +336,8 @@ def design_controller(
     >>> d.H_uw.is_proper, d.filter.order_w
     (True, 3)
     """
+    form = report_config().design.form if form is None else form
+    family = report_config().design.filter if family is None else family
     if form not in FORMS:
         raise ConfigError("form", "one of " + ", ".join(FORMS), form)
     for key, value in (("fc", fc_hz), ("fc_w", fc_w_hz)):
@@ -339,12 +345,7 @@ def design_controller(
             raise ConfigError(key, "a positive cut-off frequency in Hz", value)
     c = criteria or DesignCriteria()
     env = environment(form, vs)
-    try:
-        ideal = ideal_controller(form, table, env)
-    except ValueError as exc:
-        if isinstance(exc, ImilError):
-            raise
-        raise ConfigError("form", str(exc), form) from None
+    ideal = ideal_controller(form, table, env)
     notes: list[str] = []
     results = []
     paths = None

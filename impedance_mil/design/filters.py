@@ -52,9 +52,9 @@ class LowpassFilter:
     1.27
     """
 
-    family: str = "butterworth"
-    order: int = 3
-    fc_hz: float = 80.0
+    family: str
+    order: int
+    fc_hz: float
     ripple_db: float = 0.5
 
     def __post_init__(self):

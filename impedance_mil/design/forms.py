@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import UnstableDesignError, UnstableSystemError
+from ..errors import ConfigError, UnstableDesignError, UnstableSystemError
 from ..systems import TransferFunction
 
 #: The controller forms, in the order the report introduces them.
@@ -239,13 +239,14 @@ def ideal_controller(form: str, table: TableModel, vs: VirtualModel | None = Non
 
     Raises
     ------
-    ValueError
-        Unknown form, or a VS missing where the form needs it.
+    ConfigError
+        Unknown form, a VS missing where the form needs it, or the
+        vs-specific form for a linear VS (it has no f_h).
     UnstableDesignError, UnstableSystemError
         See :func:`check_table`, :func:`check_virtual`.
     """
     if form not in FORMS:
-        raise ValueError(f"unknown controller form {form!r}; expected one of {', '.join(FORMS)}")
+        raise ConfigError("form", "one of " + ", ".join(FORMS), form)
     check_table(table)
     H_zu, H_zw = table.H_zu, table.H_zw
     if form in ("standardized", "tracking"):
@@ -253,16 +254,18 @@ def ideal_controller(form: str, table: TableModel, vs: VirtualModel | None = Non
         H_uw = -(H_zw.div_cancel(H_zu))
         return IdealController(form, REFERENCE_INPUT[form], H_uz, H_uw)
     if vs is None:
-        raise ValueError(f"the {form} controller needs the virtual system's transfer functions")
+        raise ConfigError("vs", f"the virtual system's transfer functions for the {form} form")
     check_virtual(vs)
     H_uz = vs.H_zag.div_cancel(H_zu)
     H_uw = (vs.H_zw - H_zw).minreal().div_cancel(H_zu)
     H_ufh = None
     if form == "vs-specific":
         if vs.H_zfh is None:
-            raise ValueError(
-                f"the vs-specific form needs H_zfh; the {vs.kind} system is linear "
-                "(use form 'general' or 'standardized')"
+            raise ConfigError(
+                "form",
+                f"a form other than vs-specific for the linear {vs.kind} system, which has no "
+                "nonlinear force f_h (H_zfh); use general or standardized",
+                form,
             )
         H_ufh = vs.H_zfh.div_cancel(H_zu)
     return IdealController(form, REFERENCE_INPUT[form], H_uz, H_uw, H_ufh)

@@ -46,7 +46,7 @@ import numpy as np
 from ..errors import ConfigError
 from ..systems import TransferFunction
 from ..units import G0, TWO_PI
-from ..virtual import kernels
+from ..virtual import TEST_ARTICLE_WEIGHT, kernels
 
 #: Linearization methods; ``open-fh`` is the linear part with ``f_h`` open (no linearization).
 METHODS = ("describing-function", "equivalent-viscous", "open-fh")
@@ -57,8 +57,9 @@ METHODS = ("describing-function", "equivalent-viscous", "open-fh")
 #: lies inside.  The verdicts depend on it (docs/design.md has the table).
 DEFAULT_AMPLITUDE_IN = 1.0
 
-#: Default weight of the test article on the bearings [lbf] (vessel with 36 in of water, Section 3.2).
-DEFAULT_ARTICLE_WEIGHT_LBF = 3600.0
+#: Default weight of the test article on the bearings [lbf]: the report's article (vessel with 36 in
+#: of water, Section 3.2), from the report's setup file.
+DEFAULT_ARTICLE_WEIGHT_LBF = TEST_ARTICLE_WEIGHT
 
 #: Frequency grid of the describing function [Hz]: 5 points per decade, 1e-3 to 1e4 Hz.
 GRID_HZ = np.logspace(-3.0, 4.0, 36)

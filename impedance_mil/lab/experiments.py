@@ -14,6 +14,13 @@ report call these.
   identified linear model at each (Sections 4.5.3.1, 8.3.3).
 * :func:`run_tracking`: ``z_vs = a_g`` with the tracking controller (Eq 1-6).
 * :func:`run_mil`: a virtual isolation system with the standardized controller.
+
+An argument left as ``None`` takes the report's value from the report's setup
+file (:func:`impedance_mil.report_config.report_config`: f_c, feedback,
+precision, plant substeps, multisine peak, delay model, K_p values); no value
+is written in a signature here.  :mod:`impedance_mil.lab.descriptions` builds
+complete, named descriptions of the same experiments (what the CLI and the
+campaigns run).
 """
 
 from __future__ import annotations
@@ -22,13 +29,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..design import design_controller, table_model, virtual_model
+from ..design import ControllerDesign, design_controller, table_model, virtual_model
 from ..errors import ConfigError
 from ..implement import MILRuntime, discretize
 from ..plant import TableParameters
 from ..plant.nonlinear import NonlinearTable
+from ..report_config import report_config
+from ..signals import GroundMotion
 from ..signals.frf import estimate_frf
 from ..signals.multisine import Multisine, design_multisine
+from .feedback import Feedback
 from .identification import TableIdentification, identify_table, model_response
 from .loop import simulate
 from .metrics import RunMetrics, evaluate_run
@@ -123,8 +133,8 @@ class ControlledRun:
 
     run: RunResult
     metrics: RunMetrics | None
-    design: object
-    motion: object
+    design: ControllerDesign
+    motion: GroundMotion
     extra: dict = field(default_factory=dict)
 
 
@@ -141,13 +151,13 @@ def run_frf(
     specimen=None,
     table: NonlinearTable | None = None,
     kp: float | None = None,
-    delay: str = "first-order",
+    delay: str | None = None,
     identify: bool = True,
     free=("f_oil_hz", "zeta_oil", "d"),
     f_range_hz=(0.25, 100.0),
     sensors=None,
     seed: int = 0,
-    substeps: int | str = "auto",
+    substeps: int | str | None = None,
     limits=None,
     quantize: bool = True,
 ) -> FrfExperiment:
@@ -159,21 +169,21 @@ def run_frf(
         Linear-model parameters (the virtual table is derived from them).
     multisine : Multisine, optional
         Command; default the report's (512 lines, 0.25-125 Hz, 3 x 8192
-        points at the loop rate) with 0.1 in peak.
+        points at the loop rate) with the report's peak (0.1 in, ``[frf] peak``).
     specimen : object, optional
         Test article (Section 4.5.4); ``None`` for the bare table (4.5.3).
     table : NonlinearTable, optional
         Use this virtual table instead of ``from_linear(params)``.
     kp : float, optional
         Override K_p [V/psi] of the virtual table (and of the model).
-    delay : str
-        Delay treatment of the compared linear model (report: first-order).
+    delay : str, optional
+        Delay treatment of the compared linear model (default the report's, first-order).
     identify : bool
         Fit ``free`` parameters to the measured ``z/u`` (bare table only).
     f_range_hz : (float, float)
         Band of the identification [Hz].
     sensors, seed, substeps, limits, quantize
-        As :func:`impedance_mil.lab.loop.simulate`.
+        As :func:`impedance_mil.lab.loop.simulate` (``substeps`` None: the report's policy).
 
     Returns
     -------
@@ -182,9 +192,11 @@ def run_frf(
         and there are no FRFs, model prediction or identification (empty
         dicts, None).
     """
+    cfg = report_config()
+    delay = cfg.frf.delay if delay is None else delay
     vt = _table(params, table, kp)
     p = params if kp is None else params.replace(Kp=kp)
-    ms = multisine or design_multisine(peak=0.1, sample_rate_hz=1.0 / vt.loop_time)
+    ms = multisine or design_multisine(peak=cfg.frf.peak_in, sample_rate_hz=1.0 / vt.loop_time)
     if not np.isclose(ms.sample_rate_hz * vt.loop_time, 1.0):
         raise ConfigError(
             "multisine.sample_rate_hz", f"the loop rate {1 / vt.loop_time:g} Hz", ms.sample_rate_hz
@@ -195,7 +207,7 @@ def run_frf(
         specimen=specimen,
         sensors=sensors,
         seed=seed,
-        substeps=substeps,
+        substeps=cfg.controller.substeps if substeps is None else substeps,
         limits=limits,
         quantize=quantize,
         config={"experiment": "frf"},
@@ -221,10 +233,25 @@ def run_frf(
     return FrfExperiment(run, ms, est, model, ident, p, delay)
 
 
-def kp_study(params: TableParameters, kp_values=(0.0002, 0.0006, 0.001, 0.0014), **kwargs) -> KpStudy:
-    """:func:`run_frf` with identification at each K_p [V/psi] (Sections 4.5.3.1, 8.3.3)."""
+def kp_study(params: TableParameters, kp_values=None, **kwargs) -> KpStudy:
+    """:func:`run_frf` with identification at each K_p [V/psi] (Sections 4.5.3.1, 8.3.3).
+
+    ``kp_values`` None: the report's (``[frf] kp_values`` of the report's setup).
+    """
+    if kp_values is None:
+        kp_values = report_config().frf.kp_values
     runs = tuple(run_frf(params, kp=kp, identify=True, **kwargs) for kp in kp_values)
     return KpStudy(tuple(kp_values), runs)
+
+
+def _report_choices(fc_hz, feedback, precision) -> tuple[float, str, str]:
+    """f_c [Hz], feedback channel and precision, the report's where None (``report_config``)."""
+    cfg = report_config()
+    return (
+        cfg.design.fc_hz if fc_hz is None else fc_hz,
+        Feedback.parse(cfg.controller.feedback).channel if feedback is None else feedback,
+        cfg.controller.precision if precision is None else precision,
+    )
 
 
 def _runtime(params, design, vs, fc_hz, precision, leak_hz):
@@ -247,6 +274,8 @@ def _controlled(
 ) -> ControlledRun:
     gm = motion.resampled(params.loop_time)
     vt = _table(params, table, None)
+    if substeps is None:
+        substeps = report_config().controller.substeps
     run = simulate(
         vt,
         a_g=gm.accel,
@@ -274,15 +303,15 @@ def run_tracking(
     motion,
     *,
     specimen=None,
-    fc_hz: float = 80.0,
-    feedback: str = "lc",
+    fc_hz: float | None = None,
+    feedback: str | None = None,
     compensate: bool = True,
     table=None,
-    precision: str = "single",
+    precision: str | None = None,
     leak_hz: float | None = None,
     sensors=None,
     seed: int = 0,
-    substeps: int | str = "auto",
+    substeps: int | str | None = None,
     limits=None,
 ) -> ControlledRun:
     """Acceleration tracking, ``z_vs = a_g`` (Section 8, Eq 1-6).
@@ -295,16 +324,18 @@ def run_tracking(
         Input motion (resampled to the loop time) [in/s^2].
     specimen : object, optional
         Test article on the table.
-    fc_hz : float
-        Filter cut-off [Hz] (report: 80 Hz).
-    feedback : {"lc", "fe"}
-        Source of w (Section 8.3.2).
+    fc_hz : float, optional
+        Filter cut-off [Hz] (default the report's, ``[design] fc``: 80 Hz).
+    feedback : {"lc", "fe"}, optional
+        Lab channel of w (Section 8.3.2; default the report's, ``[controller] feedback``).
     compensate : bool
         Include ``u_w`` (``False``: the third column of Figures 8.8-8.9).
     table, precision, leak_hz, sensors, seed, substeps, limits
-        Virtual table override, controller arithmetic, drift leak [Hz], and
-        :func:`~impedance_mil.lab.loop.simulate` options.
+        Virtual table override, controller arithmetic (default the report's,
+        single), drift leak [Hz], and :func:`~impedance_mil.lab.loop.simulate`
+        options (``substeps`` default the report's policy).
     """
+    fc_hz, feedback, precision = _report_choices(fc_hz, feedback, precision)
     design = design_controller(table_model(params), form="tracking", fc_hz=fc_hz, emit_warnings=False)
     runtime = _runtime(params, design, None, fc_hz, precision, leak_hz)
     if not compensate:
@@ -332,14 +363,14 @@ def run_mil(
     motion,
     *,
     specimen=None,
-    fc_hz: float = 80.0,
-    feedback: str = "lc",
+    fc_hz: float | None = None,
+    feedback: str | None = None,
     table=None,
-    precision: str = "single",
+    precision: str | None = None,
     leak_hz: float | None = None,
     sensors=None,
     seed: int = 0,
-    substeps: int | str = "auto",
+    substeps: int | str | None = None,
     limits=None,
 ) -> ControlledRun:
     """MIL run imitating the virtual system ``vs`` (Section 9; standardized controller).
@@ -356,6 +387,7 @@ def run_mil(
     ``design`` reports the conservative open-``f_h`` constraint verdicts.  Use
     :func:`~impedance_mil.design.design_controller` for the linearized verdicts.
     """
+    fc_hz, feedback, precision = _report_choices(fc_hz, feedback, precision)
     design = design_controller(
         table_model(params),
         virtual_model(vs, linearization="open-fh"),

@@ -20,7 +20,7 @@ import h5py
 import numpy as np
 
 from .. import __version__
-from ..errors import DataFileError, LimitTripped
+from ..errors import ConfigError, DataFileError, LimitTripped
 from ..fileio import atomic_path, json_safe
 from .kernels import CHANNELS
 
@@ -140,13 +140,13 @@ def save_run(
 
     Raises
     ------
-    ValueError
-        An extra attribute or group would replace one of the run file's own.
+    ConfigError
+        An extra attribute or group would replace one of the run file's own (a ValueError).
     """
     extra_attrs, extra_groups = dict(extra_attrs or {}), dict(extra_groups or {})
     clash = sorted(set(extra_attrs) & set(RUN_ATTRS)) + sorted(set(extra_groups) & set(RUN_GROUPS))
     if clash:
-        raise ValueError(f"extra entry {clash[0]!r} would replace the run file's own")
+        raise ConfigError(f"extra entry {clash[0]!r}", "a name other than the run file's own entries")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:

@@ -7,6 +7,11 @@ table file is TOML whose values carry units (``mass = "1600 lb"``,
 Two physical alternatives are accepted in files and ``--set`` overrides:
 ``bulk_modulus`` [psi] instead of ``f_oil_hz`` (Eq 4-10a) and
 ``leakage_coefficient`` [in^3/s/psi] instead of ``zeta_oil`` (Eq 4-10b).
+
+The pressure and valve ratings (:data:`REPORT_RATINGS`) may be left out of a
+table file: they then take the report's values, read from the report's table
+file (``data/report/config.toml`` names it), and :func:`ratings_from_report`
+says which a file left out.  No value of Table 4.1 is written in this module.
 """
 
 from __future__ import annotations
@@ -19,10 +24,8 @@ from typing import Any
 
 from ..config import Field, parse_fields, read_toml
 from ..errors import ConfigError
+from ..report_config import report_config
 from ..units import INTERNAL_UNITS, TWO_PI
-
-#: The report's table (Table 4.1 with the erratum d = 1e5), shipped with the package.
-REPORT_TABLE_FILE = "report_table_4_1.toml"
 
 #: Keys of a table file: internal unit, range check and meaning.
 FIELDS: dict[str, Field] = {
@@ -37,13 +40,23 @@ FIELDS: dict[str, Field] = {
     "valve_poles_hz": Field("hertz", "positive", count=2, help="servovalve poles [Hz]"),
     "zeta_oil": Field("dimensionless", "fraction", help="oil-column damping ratio"),
     "f_oil_hz": Field("hertz", "positive", help="oil-column frequency [Hz]"),
-    "supply_pressure": Field("psi", "positive", default=3000.0, help="supply pressure P_S"),
-    "return_pressure": Field("psi", "nonnegative", default=0.0, help="return pressure P_R"),
-    "rated_flow": Field("inch**3 / second", "positive", default=57.75, help="rated valve flow Q_max"),
-    "rated_pressure_drop": Field("psi", "positive", default=1000.0, help="valve pressure drop at rated flow"),
-    "rated_current": Field("milliampere", "positive", default=25.0, help="rated valve current"),
-    "valve_command_limit": Field("volt", "positive", default=10.0, help="valve command limit |u_v|"),
+    "supply_pressure": Field("psi", "positive", help="supply pressure P_S"),
+    "return_pressure": Field("psi", "nonnegative", help="return pressure P_R"),
+    "rated_flow": Field("inch**3 / second", "positive", help="rated valve flow Q_max"),
+    "rated_pressure_drop": Field("psi", "positive", help="valve pressure drop at rated flow"),
+    "rated_current": Field("milliampere", "positive", help="rated valve current"),
+    "valve_command_limit": Field("volt", "positive", help="valve command limit |u_v|"),
 }
+
+#: Ratings a table file may leave out: they then take the values of the report's table file.
+REPORT_RATINGS = (
+    "supply_pressure",
+    "return_pressure",
+    "rated_flow",
+    "rated_pressure_drop",
+    "rated_current",
+    "valve_command_limit",
+)
 
 #: Physical alternatives: key -> (replaced key, Field).
 ALTERNATIVES: dict[str, tuple[str, Field]] = {
@@ -233,12 +246,12 @@ class TableParameters:
     valve_poles_hz: tuple[float, float]
     zeta_oil: float
     f_oil_hz: float
-    supply_pressure: float = 3000.0
-    return_pressure: float = 0.0
-    rated_flow: float = 57.75
-    rated_pressure_drop: float = 1000.0
-    rated_current: float = 25.0
-    valve_command_limit: float = 10.0
+    supply_pressure: float
+    return_pressure: float
+    rated_flow: float
+    rated_pressure_drop: float
+    rated_current: float
+    valve_command_limit: float
 
     def __post_init__(self):
         for name in ("Ke", "Kp", "loop_time", "zeta_oil", "return_pressure"):
@@ -277,12 +290,15 @@ class TableParameters:
     def from_mapping(cls, mapping: Mapping[str, Any], *, where: str = "") -> TableParameters:
         """Build from raw values (bare numbers in report units or strings with units).
 
+        The ratings of :data:`REPORT_RATINGS` that ``mapping`` leaves out take
+        the values of the report's table file.
+
         Raises
         ------
         ConfigError
             Unknown or missing key, wrong dimension, NaN, or out of range.
         """
-        raw = dict(mapping)
+        raw = {**_report_ratings(mapping), **mapping}
         physical: dict[str, float] = {}
         for key, (replaced, spec) in ALTERNATIVES.items():
             if key in raw:
@@ -319,11 +335,7 @@ class TableParameters:
         ConfigError
             A key is unknown, missing or invalid (the message names it).
         """
-        data = read_toml(path)
-        table = data.get("table", data)
-        if not isinstance(table, Mapping):
-            raise ConfigError(f"{path}: table", "a TOML table of parameters", table)
-        merged = {k: v for k, v in table.items()}
+        merged = dict(table_mapping(read_toml(path), path))
         for key, value in dict(overrides or {}).items():
             for alt, (replaced, _) in ALTERNATIVES.items():
                 if key == alt:
@@ -373,5 +385,27 @@ class TableParameters:
 
 
 def default_table_path() -> Path:
-    """Path of the packaged report table file (Table 4.1 as corrected)."""
-    return Path(__file__).resolve().parent.parent / "data" / "tables" / REPORT_TABLE_FILE
+    """Path of the report's table file (Table 4.1 as corrected), as the report's setup names it."""
+    return report_config().table_file
+
+
+def ratings_from_report(mapping: Mapping[str, Any]) -> tuple[str, ...]:
+    """The ratings of :data:`REPORT_RATINGS` a table mapping leaves out (they take the report's values)."""
+    return tuple(key for key in REPORT_RATINGS if key not in mapping)
+
+
+def _report_ratings(mapping: Mapping[str, Any]) -> dict[str, Any]:
+    """The report's raw values of the ratings ``mapping`` leaves out (none read when it has them all)."""
+    missing = ratings_from_report(mapping)
+    if not missing:
+        return {}
+    report = table_mapping(read_toml(default_table_path()), default_table_path())
+    return {key: report[key] for key in missing if key in report}
+
+
+def table_mapping(data: Mapping[str, Any], path: str | Path) -> Mapping[str, Any]:
+    """The parameters of a parsed table file: its ``[table]`` section, or the whole file without one."""
+    table = data.get("table", data)
+    if not isinstance(table, Mapping):
+        raise ConfigError(f"{path}: table", "a TOML table of parameters", table)
+    return table

@@ -18,6 +18,7 @@ import numpy as np
 import scipy.optimize
 
 from ..errors import ConfigError
+from ..systems import pole_table
 from .linear import LinearTable
 from .parameters import TableParameters
 
@@ -340,3 +341,50 @@ def first_order_validity_limit(
             return float(scipy.optimize.brentq(excess, prev, float(tau), xtol=1e-7))
         prev = float(tau)
     return None
+
+
+def pole_rows(p: TableParameters, delay: str = "first-order", pade_order: int = 6) -> list[dict]:
+    """Closed-loop poles as :func:`~impedance_mil.systems.pole_table` rows, labelled p1..p5 where the
+    delay model has them (``none``, ``first-order``: the label of the nearest :func:`labelled_poles` pole)."""
+    rows = pole_table(LinearTable(p, delay=delay, pade_order=pade_order).poles())
+    if delay in ("none", "first-order"):
+        labels = {complex(m.pole): m.label for m in labelled_poles(p, delay)}
+        for row in rows:
+            q = complex(row["real"], row["imag"])
+            row["label"] = min(labels.items(), key=lambda kv: abs(kv[0] - q))[1]
+    return rows
+
+
+def pole_summary(
+    p: TableParameters, delay: str = "first-order", pade_order: int = 6
+) -> tuple[bool, list[dict]]:
+    """``(stable, rows)`` of the closed loop with a delay model (rows as :func:`pole_rows`)."""
+    return LinearTable(p, delay=delay, pade_order=pade_order).is_stable(), pole_rows(p, delay, pade_order)
+
+
+#: Upper ends of the searches of :func:`tuning_summary`: K_e [V/in], K_p [V/psi] (stability),
+#: K_p [V/psi] (break-away); beyond the report's table by an order of magnitude.
+TUNING_SEARCH = {"Ke": 100.0, "Kp": 0.05, "Kp_breakaway": 0.01}
+
+
+def tuning_summary(p: TableParameters) -> dict:
+    """Stability limits, break-away points, the K_p maximizing oil-column damping (Section 4.4).
+
+    ``*_analog*`` entries are for ``loop_time = 0`` (and ``K_p = 0`` where named), as the
+    report's printed figures; every gain in V/in or V/psi, frequencies in Hz, the
+    validity limit of the first-order delay model in s (None: valid up to its search limit).
+    """
+    analog = p.replace(loop_time=0.0)
+    rec = recommend_kp(p)
+    return {
+        "Ke_limit_analog_Kp0": stability_limit(analog.replace(Kp=0.0), "Ke", TUNING_SEARCH["Ke"], "none"),
+        "Ke_limit": stability_limit(p, "Ke", TUNING_SEARCH["Ke"]),
+        "Kp_limit": stability_limit(p, "Kp", TUNING_SEARCH["Kp"]),
+        "Ke_breakaway_analog_Kp0": breakaway(analog.replace(Kp=0.0), "Ke", TUNING_SEARCH["Ke"]),
+        "Kp_breakaway_analog": breakaway(analog, "Kp", TUNING_SEARCH["Kp_breakaway"]),
+        "recommended_Kp": rec.Kp,
+        "recommended_oil_damping": rec.damping,
+        "recommended_oil_frequency_hz": rec.frequency_hz,
+        "first_order_delay_valid_up_to_s": first_order_validity_limit(p),
+        "stable": LinearTable(p).is_stable(),
+    }

@@ -49,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ConfigError
+from ..errors import ConfigError, NotEvaluatedError
 from ..units import G0, weight_to_mass
 from .motion import GroundMotion
 
@@ -268,11 +268,11 @@ class MotionCheck:
         return [c.name for c in self.checks if not c.ok]
 
     def check(self, name: str) -> LimitCheck:
-        """The check of the given name."""
+        """The check of the given name (NotEvaluatedError, a KeyError, for another name)."""
         for item in self.checks:
             if item.name == name:
                 return item
-        raise KeyError(name)
+        raise NotEvaluatedError(f"no check named {name!r}")
 
 
 def _peak(name: str, values: np.ndarray, limit: float, unit: str, time_step: float) -> LimitCheck:

@@ -28,12 +28,18 @@ import numpy as np
 
 from ..config import Field, parse_fields, quantity
 from ..errors import ConfigError
+from ..report_config import report_config
 from .structural import LinearMDOF, RigidMass, Specimen
 from .vessel import STEEL_MODULUS, WATER_UNIT_WEIGHT, FluidVessel
 
 #: Configuration keys of the vessel (internal units) and the FluidVessel argument each sets.
 VESSEL_FIELDS: dict[str, Field] = {
-    "water_depth": Field("inch", "nonnegative", default=36.0, help="depth of water (Section 3.2)"),
+    "water_depth": Field(
+        "inch",
+        "nonnegative",
+        default=report_config().specimen.water_depth_in,
+        help="depth of water (Section 3.2; default the report's setup)",
+    ),
     "outer_diameter": Field("inch", default=48.0, help="outside diameter of the shell"),
     "wall_thickness": Field("inch", default=3.0 / 16.0, help="shell thickness"),
     "height": Field("inch", default=48.0, help="shell height"),

@@ -48,6 +48,7 @@ import numpy as np
 import scipy.special
 
 from ..errors import ConfigError
+from ..report_config import report_config
 from ..units import G0, TWO_PI, weight_to_mass
 from .statespace import SpecimenStateSpace
 from .structural import LinearMDOF, Specimen
@@ -274,8 +275,8 @@ class FluidVessel(Specimen):
 
     @classmethod
     def report_default(cls, **overrides) -> FluidVessel:
-        """The vessel of the MIL experiments: 36 in of water (Section 3.2)."""
-        return cls(**{"water_depth_in": 36.0, **overrides})
+        """The vessel of the MIL experiments: 36 in of water (Section 3.2; the report's setup file)."""
+        return cls(**{"water_depth_in": report_config().specimen.water_depth_in, **overrides})
 
     # ------------------------------------------------------------ geometry
     @property

@@ -31,7 +31,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..errors import ConfigError
+from ..errors import ConfigError, IncompleteModelError
 from ..systems import TransferFunction
 from . import kernels
 from .kernels import KIND_PYTHON, RK3_A21, RK3_A32, RK3_B1, RK3_B2, RK3_B3
@@ -329,7 +329,7 @@ class VirtualSystem:
 
     def _require_kernel(self, what: str) -> None:
         if self.kind_code == KIND_PYTHON:
-            raise NotImplementedError(f"{type(self).__name__} must define {what}()")
+            raise IncompleteModelError(f"{type(self).__name__} must define {what}()")
 
 
 def _kernel_linear_part(kind_code: int, params: np.ndarray) -> LinearPart:

@@ -17,12 +17,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..report_config import report_config
 from ..units import G0, TWO_PI
 from .base import _nonnegative, _positive
 from .models import FrictionPendulum, LeadRubber, SpringDamper
 
 #: Weight of the report's test article: vessel with 36 in of water [lbf] (Section 3.2, Table 9.1).
-TEST_ARTICLE_WEIGHT = 3600.0
+TEST_ARTICLE_WEIGHT = report_config().specimen.article_weight_lbf
 #: Basemat mass of Tables 9.1-9.3 [lbf*s**2/in]: 2000 lb (about 1.25 m_st, Section 9.4.4).
 BASEMAT_MASS = 2000.0 / G0
 

@@ -27,6 +27,7 @@ import numpy as np
 from ..systems import TransferFunction
 from ..units import G0, TWO_PI
 from .base import LinearPart, VirtualSystem, VSOutput, _nonnegative, _positive, _state
+from .targets import TEST_ARTICLE_WEIGHT
 
 
 @dataclass(frozen=True)
@@ -128,7 +129,7 @@ def example_two_storey(
     storey_frequency: float = 5.0,
     storey_damping: float = 0.02,
     floor_weight: float = 2000.0,
-    w_ps: float = 3600.0,
+    w_ps: float | None = None,
 ) -> IsolatedTwoStorey:
     """A plausible isolated two-storey frame sized like the report's systems.
 
@@ -144,9 +145,11 @@ def example_two_storey(
         Damping ratio of that storey.
     floor_weight : float
         Weight of each of the three slabs (base, floor 1, roof) [lbf].
-    w_ps : float
-        Weight of the test article on the roof [lbf] (used for sizing only).
+    w_ps : float, optional
+        Weight of the test article on the roof [lbf] (used for sizing only);
+        default the report's article (``TEST_ARTICLE_WEIGHT``, from the report's setup).
     """
+    w_ps = TEST_ARTICLE_WEIGHT if w_ps is None else w_ps
     m = floor_weight / G0
     total = 3.0 * m + w_ps / G0
     k_b = (TWO_PI / isolation_period) ** 2 * total

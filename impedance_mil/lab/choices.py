@@ -1,0 +1,300 @@
+"""From a user's partial choices to an experiment description, the rest from the report's setup.
+
+A :class:`Choices` holds what a user chose for a run, as text or numbers
+with units (``None``: not chosen).  :func:`tracking_test`, :func:`mil_test`
+and :func:`frf_test` resolve and validate every choice and take each value
+nobody chose from the report's setup (:func:`impedance_mil.report_config.report_config`):
+the table of Table 4.1, the vessel with 36 in of water (or the 3600 lbf
+article for a rigid mass), GM1 time-compressed by 2 at 0.8 g, f_c = 80 Hz,
+load-cell feedback, single precision, the interlocks and the substep policy.
+Each value so taken is listed in the description's ``from_report`` under its
+key in ``data/report/config.toml``.
+
+Errors name the choice as the caller calls it: ``Choices.keys`` maps a
+choice (``water_depth``) to its name in messages (``--water-depth`` for the
+CLI).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..config import quantity, read_toml
+from ..errors import ConfigError, DataFileError
+from ..plant import TableParameters
+from ..plant.parameters import ratings_from_report, table_mapping
+from ..report_config import ReportConfig, report_config
+from ..signals.sources import scaled_motion
+from ..specimens import FluidVessel, RigidMass, specimen_from_config
+from ..virtual.files import resolve
+from .descriptions import (
+    ControllerChoice,
+    FrfTest,
+    LabChoice,
+    MilTest,
+    MotionChoice,
+    SpecimenChoice,
+    TrackingTest,
+)
+from .feedback import Feedback
+from .setup import SafetyLimits
+
+#: Names of the specimens a user may choose (or a specimen file).
+SPECIMEN_KINDS = ("vessel", "rigid", "none")
+
+
+@dataclass(frozen=True)
+class Choices:
+    """What a user chose for a run; ``None`` (or empty) means "not chosen: the report's".
+
+    Attributes
+    ----------
+    table : Path or None
+        Table file.
+    table_overrides : mapping
+        ``--set`` values of the table (with units or in the report's unit).
+    specimen : str or None
+        ``vessel``, ``rigid``, ``none`` or a specimen file (TOML).
+    water_depth, specimen_weight : str or float or None
+        Water in the vessel [in]; weight of the rigid mass [lbf].
+    motion : str or None
+        Motion source (:mod:`impedance_mil.signals.sources`).
+    units : str
+        Unit of the accelerations of a column file.
+    time_scale : float or None
+        Time compression (t' = t / factor).
+    pga_g : float or None
+        PGA to scale to [g].
+    duration : str or float or None
+        Run only the first seconds [s].
+    fc_hz : str or float or None
+        Filter cut-off [Hz].
+    feedback, precision : str or None
+        Source of w (:class:`~impedance_mil.lab.feedback.Feedback`), controller arithmetic.
+    seed : int
+        Sensor-noise seed.
+    vs : str or None
+        VS preset or file (MIL).
+    vs_overrides : mapping
+        Values of the VS.
+    keys : mapping of str to str
+        Name of each choice in error messages (default: the attribute name).
+    """
+
+    table: Path | None = None
+    table_overrides: Mapping[str, Any] = field(default_factory=dict)
+    specimen: str | None = None
+    water_depth: Any = None
+    specimen_weight: Any = None
+    motion: str | None = None
+    units: str = "g"
+    time_scale: float | None = None
+    pga_g: float | None = None
+    duration: Any = None
+    fc_hz: Any = None
+    feedback: str | None = None
+    precision: str | None = None
+    seed: int = 0
+    vs: str | None = None
+    vs_overrides: Mapping[str, Any] = field(default_factory=dict)
+    keys: Mapping[str, str] = field(default_factory=dict)
+
+    def key(self, name: str) -> str:
+        """The name of a choice in error messages."""
+        return self.keys.get(name, name)
+
+
+def _pick(value: Any, default: Any, key: str, used: dict[str, Any]) -> Any:
+    """``value``, or the report's ``default`` (recorded in ``used`` under ``key``) when it is None."""
+    if value is None:
+        used[key] = default
+        return default
+    return value
+
+
+def choose_table(
+    path: Path | None, overrides: Mapping[str, Any], cfg: ReportConfig, used: dict
+) -> TableParameters:
+    """The table file (default the report's, Table 4.1) with overrides; ratings it leaves out are the report's."""
+    if path is None:
+        used["table.file"] = cfg.table_file.name
+        path = cfg.table_file
+    params = TableParameters.from_toml(path, overrides)
+    given = {**table_mapping(read_toml(path), path), **overrides}
+    for key in ratings_from_report(given):
+        used[f"table.{key}"] = getattr(params, key)
+    return params
+
+
+def choose_specimen(
+    choices: Choices, cfg: ReportConfig, used: dict, default_kind: str | None = None
+) -> SpecimenChoice:
+    """Resolve the specimen with its water depth [in] or weight [lbf] (``default_kind``: the report's)."""
+    text = choices.specimen
+    if text is None:
+        text = (
+            default_kind
+            if default_kind is not None
+            else _pick(None, cfg.specimen.kind, "specimen.kind", used)
+        )
+    key = text.strip().lower()
+    if choices.water_depth is not None and key != "vessel":
+        raise ConfigError(
+            choices.key("water_depth"),
+            f"{choices.key('specimen')} vessel (it sets the vessel's water depth)",
+            text,
+        )
+    if choices.specimen_weight is not None and key != "rigid":
+        raise ConfigError(
+            choices.key("specimen_weight"),
+            f"{choices.key('specimen')} rigid (it sets the rigid mass's weight)",
+            text,
+        )
+    if key == "none":
+        return SpecimenChoice(None, "bare table", 0.0)
+    if key == "vessel":
+        raw = _pick(choices.water_depth, cfg.specimen.water_depth_in, "specimen.water_depth", used)
+        depth = quantity(choices.key("water_depth"), raw, "inch", "nonnegative")
+        vessel = FluidVessel(water_depth_in=depth)
+        return SpecimenChoice(
+            vessel, f"vessel with {depth:g} in of water ({vessel.total_weight:.0f} lb)", vessel.total_weight
+        )
+    if key == "rigid":
+        raw = _pick(choices.specimen_weight, cfg.specimen.article_weight_lbf, "specimen.article_weight", used)
+        lbf = quantity(choices.key("specimen_weight"), raw, "force_pound", "positive")
+        return SpecimenChoice(RigidMass(lbf), f"rigid mass of {lbf:.0f} lb", lbf)
+    return _specimen_file(Path(text), choices.key("specimen"))
+
+
+def _specimen_file(path: Path, key: str) -> SpecimenChoice:
+    if not path.is_file():
+        raise ConfigError(
+            key, ", ".join(SPECIMEN_KINDS[:-1]) + " or none, or a specimen file (TOML)", str(path)
+        )
+    data = read_toml(path)
+    table = data.get("specimen", data)
+    if not isinstance(table, Mapping):
+        raise DataFileError(path, "expected a [specimen] table")
+    specimen = specimen_from_config(table, where=f"{path.name}: specimen.")
+    return SpecimenChoice(
+        specimen,
+        f"{type(specimen).__name__} from {path.name} ({specimen.total_weight:.0f} lb)",
+        float(specimen.total_weight),
+    )
+
+
+def choose_motion(choices: Choices, cfg: ReportConfig, used: dict) -> MotionChoice:
+    """Resolve the motion: the report's (GM1, built in) unless chosen; time compression, PGA and length.
+
+    The PGA of Table 8.1 applies to the default motion's record when no PGA is
+    chosen; any other motion runs at its recorded PGA unless ``pga_g`` is given.
+    """
+    default = cfg.default_motion
+    argument = choices.motion
+    if argument is None:
+        used["motion.record"] = default.name
+        argument = default.builtin_substitute
+    pga = choices.pga_g
+    if pga is None and argument.strip().lower() == default.builtin_substitute:
+        pga = _pick(None, default.pga_scaled_g, f"motions.{default.name}.pga", used)
+    time_scale = float(_pick(choices.time_scale, cfg.motion.time_scale, "motion.time_scale", used))
+    motion = scaled_motion(argument, choices.units, time_scale, pga, key=choices.key("motion"))
+    if choices.duration is not None:
+        length = quantity(choices.key("duration"), choices.duration, "second", "positive")
+        if length < motion.duration:
+            motion = motion.trimmed(0.0, length)
+    return MotionChoice(motion, argument, time_scale, pga, choices.duration)
+
+
+def choose_controller(
+    choices: Choices, cfg: ReportConfig, used: dict, *, allow_none: bool
+) -> ControllerChoice:
+    """f_c [Hz], feedback source and precision, the report's where not chosen."""
+    fc = quantity(
+        choices.key("fc_hz"), _pick(choices.fc_hz, cfg.design.fc_hz, "design.fc", used), "hertz", "positive"
+    )
+    name = _pick(choices.feedback, cfg.controller.feedback, "controller.feedback", used)
+    feedback = Feedback.parse(name, choices.key("feedback"), allow_none=allow_none)
+    precision = _pick(choices.precision, cfg.controller.precision, "controller.precision", used)
+    try:
+        return ControllerChoice(fc, feedback, precision)
+    except ConfigError as exc:
+        raise ConfigError(choices.key(exc.key), exc.expected, exc.got) from None
+
+
+def report_lab(cfg: ReportConfig, seed: int, used: dict, key: str = "seed") -> LabChoice:
+    """The report's interlocks and substep policy, the lab's sensors, and ``seed``."""
+    used["limits.stroke"] = cfg.limits.stroke_in
+    used["limits.velocity"] = cfg.limits.velocity_in_s
+    used["controller.substeps"] = cfg.controller.substeps
+    limits = SafetyLimits(stroke=cfg.limits.stroke_in, velocity=cfg.limits.velocity_in_s)
+    try:
+        return LabChoice(limits, None, cfg.controller.substeps, seed)
+    except ConfigError as exc:
+        raise ConfigError(key, exc.expected, exc.got) from None
+
+
+def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any]:
+    used: dict[str, Any] = {}
+    parts = dict(
+        table=choose_table(choices.table, choices.table_overrides, cfg, used),
+        controller=choose_controller(choices, cfg, used, allow_none=not mil),
+        lab=report_lab(cfg, choices.seed, used, choices.key("seed")),
+        specimen=choose_specimen(choices, cfg, used),
+        motion=choose_motion(choices, cfg, used),
+        from_report=used,
+    )
+    if mil:
+        name = _pick(choices.vs, cfg.vs_preset, "vs.preset", used)
+        parts["vs_spec"] = resolve(name, choices.vs_overrides)
+    return parts
+
+
+def tracking_test(choices: Choices, cfg: ReportConfig | None = None) -> TrackingTest:
+    """A :class:`TrackingTest` from ``choices``, the rest from the report's setup (``cfg``)."""
+    return TrackingTest(**_controlled(choices, cfg or report_config(), mil=False))
+
+
+def mil_test(choices: Choices, cfg: ReportConfig | None = None) -> MilTest:
+    """A :class:`MilTest` from ``choices`` (``vs``: default the report's SD2), the rest from the report's setup."""
+    return MilTest(**_controlled(choices, cfg or report_config(), mil=True))
+
+
+def frf_test(
+    choices: Choices,
+    *,
+    peak: Any = None,
+    delay: str | None = None,
+    kp_values: tuple[float, ...] | None = None,
+    kp_study: bool = False,
+    cfg: ReportConfig | None = None,
+) -> FrfTest:
+    """An :class:`FrfTest`: the bare table unless ``choices.specimen``; peak [in], delay, K_p study.
+
+    ``kp_values`` [V/psi] matter only with ``kp_study`` (default the report's values).
+    """
+    cfg = cfg or report_config()
+    used: dict[str, Any] = {}
+    table = choose_table(choices.table, choices.table_overrides, cfg, used)
+    specimen = choose_specimen(choices, cfg, used, default_kind="none")
+    peak_in = quantity(
+        choices.key("peak"), _pick(peak, cfg.frf.peak_in, "frf.peak", used), "inch", "positive"
+    )
+    delay = _pick(delay, cfg.frf.delay, "frf.delay", used)
+    kps: tuple[float, ...] = ()
+    if kp_study:
+        kps = tuple(_pick(kp_values, cfg.frf.kp_values, "frf.kp_values", used))
+        if specimen.specimen is not None:
+            raise ConfigError(
+                choices.key("kp_study"),
+                f"{choices.key('specimen')} none (the identification is of the bare table, Section 4.5.3)",
+                choices.specimen,
+            )
+    lab = report_lab(cfg, choices.seed, used, choices.key("seed"))
+    try:
+        return FrfTest(table, specimen, peak_in, delay, kps, lab, used)
+    except ConfigError as exc:
+        raise ConfigError(choices.key(exc.key), exc.expected, exc.got) from None

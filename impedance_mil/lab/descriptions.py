@@ -1,0 +1,418 @@
+"""Experiment descriptions: one named, validated value per kind of test (tracking, MIL, FRF).
+
+A description holds everything a run needs (the table, the specimen, the
+motion or the multisine, the controller settings, the feedback source, the
+precision, the noise seed, the interlocks and the plant substeps) and runs it:
+
+* :class:`TrackingTest` (Section 8) and :class:`MilTest` (Section 9) run
+  :func:`~impedance_mil.lab.experiments.run_tracking` /
+  :func:`~impedance_mil.lab.experiments.run_mil` and return a
+  :class:`~impedance_mil.lab.experiments.ControlledRun`;
+  :meth:`TrackingTest.summary` states the test and its metrics under the
+  shared names of :mod:`impedance_mil.lab.runfile`;
+* :class:`FrfTest` (Section 4.5) runs the multisine test (and the K_p study)
+  and returns an :class:`FrfOutcome`; :meth:`FrfTest.summary` and
+  :meth:`FrfTest.arrays` are what its run file stores.
+
+``imil simulate``/``track``/``frf`` and the campaign kinds ``mil``/
+``tracking``/``frf`` build these descriptions and call the same methods.
+:mod:`impedance_mil.lab.choices` turns a user's partial choices into a
+description, taking every value the user did not choose from the report's
+setup (:mod:`impedance_mil.report_config`) and listing it in
+``from_report``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..plant import TableParameters
+from ..signals import GroundMotion
+from ..signals.multisine import report_multisine
+from ..virtual.files import VSSpec
+from .experiments import ControlledRun, FrfExperiment, kp_study, run_frf, run_mil, run_tracking
+from .feedback import Feedback
+from .pretest import Pretest, pretest
+from .runfile import FRF_GROUP, MODEL_LOOP, model_loop, run_summary, trip_summary, trip_text
+from .setup import SafetyLimits
+
+#: Controller arithmetic of the runtime.
+PRECISIONS = ("single", "double")
+#: Bands of the FRF model error [Hz]: the identification band, and the oil-column band (Figure 4.16).
+FRF_BANDS_HZ = {"model_error_0p25_100hz": (0.25, 100.0), "model_error_10_50hz": (10.0, 50.0)}
+#: Delay treatments of the linear model an FRF is compared with (plant.LinearTable).
+FRF_DELAYS = ("none", "first-order", "pade", "sampled")
+
+
+@dataclass(frozen=True)
+class SpecimenChoice:
+    """The test article of a run.
+
+    Attributes
+    ----------
+    specimen : Specimen or None
+        ``None`` for the bare table.
+    label : str
+        Description for the terminal and the report.
+    weight_lbf : float
+        Total weight [lbf] (0 for the bare table).
+    """
+
+    specimen: Any
+    label: str
+    weight_lbf: float
+
+
+@dataclass(frozen=True)
+class MotionChoice:
+    """The input motion of a run, as it will be run (before resampling to the loop time).
+
+    Attributes
+    ----------
+    motion : GroundMotion
+        Scaled (and trimmed) motion [in/s^2].
+    argument : str
+        What the user named (built-in name, FEMA source, file, or a motion of Table 8.1).
+    time_scale : float
+        Time compression applied (t' = t / factor).
+    pga_g : float or None
+        PGA it was scaled to [g] (None: as recorded).
+    duration_s : float or None
+        Length it was trimmed to [s] (None: the whole record).
+    """
+
+    motion: GroundMotion
+    argument: str
+    time_scale: float
+    pga_g: float | None
+    duration_s: float | None
+
+    def to_dict(self) -> dict:
+        return {
+            "argument": self.argument,
+            "name": self.motion.name,
+            "source": self.motion.source,
+            "time_scale": self.time_scale,
+            "pga_g": self.motion.pga_g,
+            "duration_s": self.motion.duration,
+            "trimmed_to_s": self.duration_s,
+            "time_step_s": self.motion.time_step,
+        }
+
+
+@dataclass(frozen=True)
+class ControllerChoice:
+    """Controller settings of a controlled test: cut-off f_c [Hz], feedback source, arithmetic."""
+
+    fc_hz: float
+    feedback: Feedback
+    precision: str
+
+    def __post_init__(self):
+        if not (np.isfinite(self.fc_hz) and self.fc_hz > 0):
+            raise ConfigError("fc", "a positive cut-off frequency in Hz", self.fc_hz)
+        if self.precision not in PRECISIONS:
+            raise ConfigError("precision", "one of " + ", ".join(PRECISIONS), self.precision)
+
+
+@dataclass(frozen=True)
+class LabChoice:
+    """The virtual lab of a run: interlocks, sensors (None: the lab's Table 7.1 suite), plant substeps, seed."""
+
+    limits: SafetyLimits
+    sensors: Any
+    substeps: int | str
+    seed: int
+
+    def __post_init__(self):
+        if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
+            raise ConfigError("seed", "a non-negative integer", self.seed)
+
+
+@dataclass(frozen=True)
+class TrackingTest:
+    """Acceleration tracking of a ground motion under a specimen (report Section 8, ``z_vs = a_g``).
+
+    Attributes
+    ----------
+    table : TableParameters
+        Table model (the virtual table is derived from it).
+    specimen : SpecimenChoice
+    motion : MotionChoice
+    controller : ControllerChoice
+    lab : LabChoice
+    from_report : mapping
+        The values taken from the report's setup because nobody chose them
+        (key of ``data/report/config.toml`` -> value, internal units).
+    """
+
+    table: TableParameters
+    specimen: SpecimenChoice
+    motion: MotionChoice
+    controller: ControllerChoice
+    lab: LabChoice
+    from_report: Mapping[str, Any] = field(compare=False)
+
+    #: ``kind`` in the JSON and the run file; also the lab's run mode.
+    kind: ClassVar[str] = "track"
+
+    @property
+    def vs(self):
+        """The virtual system (None for tracking)."""
+        return None
+
+    @property
+    def vs_name(self) -> str | None:
+        return None
+
+    def pretest(self) -> Pretest:
+        """The motion (and, for MIL, the predicted basemat motion) against the table's limits."""
+        return pretest(self.table, self.specimen.weight_lbf, self.motion.motion, self.lab.limits, self.vs)
+
+    def _common(self) -> dict[str, Any]:
+        return dict(
+            specimen=self.specimen.specimen,
+            fc_hz=self.controller.fc_hz,
+            feedback=self.controller.feedback.channel,
+            precision=self.controller.precision,
+            sensors=self.lab.sensors,
+            seed=self.lab.seed,
+            substeps=self.lab.substeps,
+            limits=self.lab.limits,
+        )
+
+    def run(self) -> ControlledRun:
+        """Design the tracking controller and run the loop (``lab.experiments.run_tracking``)."""
+        return run_tracking(
+            self.table, self.motion.motion, compensate=self.controller.feedback.compensates, **self._common()
+        )
+
+    def describe(self) -> dict[str, Any]:
+        """The test as plain data (JSON output, run file summary)."""
+        return {
+            "kind": self.kind,
+            "vs": self.vs_name,
+            "specimen": self.specimen.label,
+            "specimen_weight_lbf": self.specimen.weight_lbf,
+            "motion": self.motion.to_dict(),
+            "fc_hz": self.controller.fc_hz,
+            "feedback": self.controller.feedback.value,
+            "precision": self.controller.precision,
+            "seed": self.lab.seed,
+            "from_report": dict(self.from_report),
+        }
+
+    def arrays(self, result: ControlledRun) -> dict[str, dict[str, np.ndarray]]:
+        """Arrays stored with the run: the VS model's own isolator loop of a MIL run (none for tracking)."""
+        return {} if self.vs is None else {MODEL_LOOP: model_loop(result.run, self.vs)}
+
+    def summary(
+        self, result: ControlledRun, pre: Pretest | None = None, warnings: tuple[str, ...] = ()
+    ) -> dict[str, Any]:
+        """The test, its metrics (shared names), the pre-test check and the design verdicts."""
+        design = result.design
+        doc = {**self.describe(), **run_summary(result.run, result.metrics)}
+        if pre is not None:
+            doc["pretest"] = pre.to_dict()
+        doc["warnings"] = list(warnings)
+        doc["design"] = {
+            "form": design.form,
+            "fc_hz": design.fc_hz,
+            "constraints": design.constraint_at(design.fc_hz).to_dict(),
+            "notes": list(design.warnings),
+        }
+        return doc
+
+
+@dataclass(frozen=True)
+class MilTest(TrackingTest):
+    """A MIL test: the table imitates a virtual isolation system (report Section 9).
+
+    Attributes
+    ----------
+    vs_spec : VSSpec
+        The virtual system and where it came from (plus those of :class:`TrackingTest`).
+    """
+
+    vs_spec: VSSpec = field(kw_only=True)
+
+    kind: ClassVar[str] = "mil"
+
+    def __post_init__(self):
+        if not self.controller.feedback.compensates:
+            raise ConfigError("feedback", "lc or fe (a MIL run feeds the measured force to the VS)", "none")
+
+    @property
+    def vs(self):
+        return self.vs_spec.vs
+
+    @property
+    def vs_name(self) -> str | None:
+        return self.vs_spec.name
+
+    def run(self) -> ControlledRun:
+        """Design the standardized controller and run the MIL loop (``lab.experiments.run_mil``)."""
+        return run_mil(self.table, self.vs, self.motion.motion, **self._common())
+
+
+@dataclass(frozen=True, eq=False)
+class FrfOutcome:
+    """Outcome of :meth:`FrfTest.run`: the multisine experiment and the K_p study (empty after a trip)."""
+
+    experiment: FrfExperiment
+    kp_values: tuple[float, ...]
+    study: tuple[FrfExperiment, ...]
+
+
+def identified(exp: FrfExperiment) -> dict[str, float]:
+    """omega_oil [rad/s], f_oil [Hz], zeta_oil, d and the misfit identified from z/u (empty without)."""
+    if exp.identification is None:
+        return {}
+    p = exp.identification.parameters
+    return {
+        "omega_oil_rad_s": p.omega_oil,
+        "f_oil_hz": p.f_oil_hz,
+        "zeta_oil": p.zeta_oil,
+        "d": p.d,
+        "identification_error": exp.identification.rms_log_error,
+    }
+
+
+def _kp_row(kp: float, exp: FrfExperiment) -> dict[str, Any]:
+    ident = identified(exp)
+    return {
+        "Kp": kp,
+        **{key: ident.get(key) for key in ("omega_oil_rad_s", "f_oil_hz", "zeta_oil", "d")},
+        "misfit": ident.get("identification_error"),
+        "abort_reason": trip_text(exp.run),
+    }
+
+
+@dataclass(frozen=True)
+class FrfTest:
+    """The multisine test of Section 4.5 and the identification of omega_oil, zeta_oil and d.
+
+    Attributes
+    ----------
+    table : TableParameters
+    specimen : SpecimenChoice
+        Identification needs the bare table (``specimen.specimen`` None).
+    peak_in : float
+        Peak of the multisine position command [in].
+    delay : str
+        Delay model of the linear model compared and identified (:data:`FRF_DELAYS`).
+    kp_values : tuple of float
+        K_p [V/psi] of the study repeated after the test (empty: none; bare table only).
+    lab : LabChoice
+    from_report : mapping
+        Values taken from the report's setup (as :class:`TrackingTest`).
+    """
+
+    table: TableParameters
+    specimen: SpecimenChoice
+    peak_in: float
+    delay: str
+    kp_values: tuple[float, ...]
+    lab: LabChoice
+    from_report: Mapping[str, Any] = field(compare=False)
+
+    kind: ClassVar[str] = "frf"
+
+    def __post_init__(self):
+        if not (np.isfinite(self.peak_in) and self.peak_in > 0):
+            raise ConfigError("peak", "a positive command peak in in", self.peak_in)
+        if self.delay not in FRF_DELAYS:
+            raise ConfigError("delay", "one of " + ", ".join(FRF_DELAYS), self.delay)
+        if self.kp_values and self.specimen.specimen is not None:
+            raise ConfigError(
+                "kp_study", "the bare table (the identification is of the bare table, Section 4.5.3)"
+            )
+
+    def _options(self) -> dict[str, Any]:
+        return dict(
+            multisine=report_multisine(self.table.loop_time, peak=self.peak_in),
+            delay=self.delay,
+            sensors=self.lab.sensors,
+            seed=self.lab.seed,
+            substeps=self.lab.substeps,
+            limits=self.lab.limits,
+        )
+
+    def run(self, on_step: Callable[[str], None] | None = None) -> FrfOutcome:
+        """Run the test, then (if it completed) the K_p study; ``on_step(text)`` is told of each K_p."""
+        options = self._options()
+        bare = self.specimen.specimen is None
+        exp = run_frf(self.table, specimen=self.specimen.specimen, identify=bare, **options)
+        kps = self.kp_values if exp.completed else ()
+        study = []
+        for kp in kps:
+            if on_step is not None:
+                on_step(f"K_p study: K_p = {kp:g} V/psi")
+            study.append(kp_study(self.table, (kp,), **options).experiments[0])
+        return FrfOutcome(exp, tuple(kps), tuple(study))
+
+    def summary(self, outcome: FrfOutcome) -> dict[str, Any]:
+        """What the run file and the JSON state: the multisine, the identification, the model error."""
+        exp = outcome.experiment
+        ms = exp.multisine
+        f = ms.frequencies_hz
+        errors = (
+            {name: exp.model_error("z", band) for name, band in FRF_BANDS_HZ.items()} if exp.completed else {}
+        )
+        p = self.table
+        return {
+            "kind": self.kind,
+            "specimen": self.specimen.label,
+            "specimen_weight_lbf": self.specimen.weight_lbf,
+            **trip_summary(exp.run),
+            "multisine": {
+                "peak_in": float(np.max(np.abs(ms.period))),
+                "lines": int(ms.lines.size),
+                "f_min_hz": float(f.min()),
+                "f_max_hz": float(f.max()),
+                "period_s": ms.n_points / ms.sample_rate_hz,
+                "n_periods": ms.n_periods,
+                "crest_factor": ms.crest_factor,
+            },
+            "delay": exp.delay,
+            "seed": exp.run.config.get("seed"),
+            **identified(exp),
+            **errors,
+            "table_file": {
+                "omega_oil_rad_s": p.omega_oil,
+                "f_oil_hz": p.f_oil_hz,
+                "zeta_oil": p.zeta_oil,
+                "d": p.d,
+                "Kp": p.Kp,
+            },
+            "kp_study": [_kp_row(kp, e) for kp, e in zip(outcome.kp_values, outcome.study)],
+            "from_report": dict(self.from_report),
+        }
+
+    @staticmethod
+    def arrays(outcome: FrfOutcome, summary: Mapping[str, Any]) -> dict[str, dict[str, np.ndarray]]:
+        """Arrays stored with the run: the z/u FRF and its model (none after a trip), and the K_p study.
+
+        In ``kp_study`` a run stopped by an interlock has NaN parameters and misfit.
+        """
+        exp = outcome.experiment
+        arrays = {}
+        if exp.completed:
+            z = exp.frf["z"]
+            arrays[FRF_GROUP] = {
+                "f_hz": z.frequency_hz,
+                "H_zu_measured": z.response,
+                "H_zu_model": exp.model["z"],
+                "coherence_zu": z.coherence,
+            }
+        if summary["kp_study"]:
+            arrays["kp_study"] = {
+                key: np.array([row[key] for row in summary["kp_study"]], dtype=float)
+                for key in ("Kp", "f_oil_hz", "zeta_oil", "d", "misfit")
+            }
+        return arrays
