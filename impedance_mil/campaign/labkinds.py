@@ -25,6 +25,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from ..lab.choices import report_lab
 from ..lab.descriptions import (
     FRF_BANDS_HZ,
     ControllerChoice,
@@ -38,9 +39,7 @@ from ..lab.descriptions import (
 from ..lab.experiments import ControlledRun
 from ..lab.feedback import LEGACY_NAMES, Feedback
 from ..lab.runfile import TRIP_KEYS, flat_summary, run_summary, write_run_file
-from ..lab.setup import SafetyLimits
 from ..report_config import report_config
-from ..specimens.vessel import FluidVessel
 from ..units import INTERNAL_UNITS
 from ..virtual.files import VSSpec
 from .modelkinds import CONTROLLER_PARAMS, TABLE_PARAMS, VS_PARAMS, table_parameters, virtual_system
@@ -175,17 +174,13 @@ MIL_DEFAULTS: dict[str, Any] = {
 def _specimen(config: dict[str, Any]) -> SpecimenChoice:
     spec = config["specimen"]
     if spec["kind"] != "vessel":
-        return SpecimenChoice(None, "bare table", 0.0)
-    depth = float(spec["water_depth"])
-    vessel = FluidVessel(water_depth_in=depth)
-    return SpecimenChoice(
-        vessel, f"vessel with {depth:g} in of water ({vessel.total_weight:.0f} lb)", vessel.total_weight
-    )
+        return SpecimenChoice.bare()
+    return SpecimenChoice.vessel(float(spec["water_depth"]))
 
 
-def _lab(config: dict[str, Any]) -> LabChoice:
-    limits = SafetyLimits(stroke=_REPORT.limits.stroke_in, velocity=_REPORT.limits.velocity_in_s)
-    return LabChoice(limits, None, _REPORT.controller.substeps, int(config["seed"]))
+def _lab(config: dict[str, Any], used: dict[str, Any]) -> LabChoice:
+    """The report's interlocks and substep policy (recorded in ``used``), the run's seed."""
+    return report_lab(_REPORT, int(config["seed"]), used)
 
 
 def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
@@ -203,14 +198,10 @@ def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
         ``zeta_oil``, ``d`` and ``identification_error``; ``simulated_s``;
         after a trip, ``aborted`` and ``abort_reason`` (the run's data are kept).
     """
+    used: dict[str, Any] = {"frf.peak": _REPORT.frf.peak_in, "frf.delay": _REPORT.frf.delay}
+    lab = _lab(config, used)
     test = FrfTest(
-        table_parameters(config),
-        _specimen(config),
-        _REPORT.frf.peak_in,
-        _REPORT.frf.delay,
-        (),
-        _lab(config),
-        {},
+        table_parameters(config), _specimen(config), _REPORT.frf.peak_in, _REPORT.frf.delay, (), lab, used
     )
     outcome = test.run()
     summary = test.summary(outcome)
@@ -253,9 +244,9 @@ def _controlled_metrics(
 def run_tracking_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """Acceleration tracking of a report motion (Section 8); see the module docstring."""
     motion, source = _motion(config)
-    test = TrackingTest(
-        table_parameters(config), _specimen(config), motion, _controller(config), _lab(config), {}
-    )
+    used: dict[str, Any] = {}
+    lab = _lab(config, used)
+    test = TrackingTest(table_parameters(config), _specimen(config), motion, _controller(config), lab, used)
     return _controlled_metrics(test, test.run(), source, out_path)
 
 
@@ -264,13 +255,15 @@ def run_mil_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     params = table_parameters(config)
     motion, source = _motion(config)
     vs = virtual_system(config, params.mass)
+    used: dict[str, Any] = {}
+    lab = _lab(config, used)
     test = MilTest(
         params,
         _specimen(config),
         motion,
         _controller(config),
-        _lab(config),
-        {},
+        lab,
+        used,
         vs_spec=VSSpec(config["vs"]["preset"], vs),
     )
     metrics = _controlled_metrics(test, test.run(), source, out_path)

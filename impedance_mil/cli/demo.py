@@ -85,10 +85,13 @@ def closing_lines(outcome: Outcome) -> list[str]:
         f"simulated {doc['simulated_s']:.2f} s"
         + (" (stopped by a safety interlock)" if doc["aborted"] else "")
     ]
-    basemat = outcome.pre.basemat
-    if doc["aborted"] and basemat is not None and not basemat.check("stroke").ok:
-        stroke = basemat.check("stroke")
-        pga = math.floor(10.0 * outcome.test.motion.motion.pga_g * stroke.limit / stroke.peak) / 10.0
+    pre, test = outcome.pre, outcome.test
+    if pre is None or pre.basemat is None:
+        return lines
+    fit_pga = pre.findings(test.motion.motion, test.motion.time_scale).basemat_fit_pga_g
+    if doc["aborted"] and fit_pga is not None:
+        stroke = pre.basemat.check("stroke")
+        pga = math.floor(10.0 * fit_pga) / 10.0  # the tenth of a g below the fit
         lines.append(
             f"The report ran this test on its table (Figure 9-5).  In the virtual lab the {doc['vs']} basemat, "
             f"which the table must follow, moves {stroke.peak:.2f} in: more than the {stroke.limit:g} in "

@@ -63,7 +63,7 @@ class FilterSpec:
         Separate cut-off of the ``w`` path [Hz]; None: same as ``fc_hz``.
     """
 
-    family: str = "butterworth"
+    family: str
     order_z: int = 3
     order_w: int = 3
     order_fh: int = 0
@@ -165,10 +165,16 @@ class FilteredPaths:
     spec: FilterSpec
 
 
+def report_design_choices(form: str | None, family: str | None) -> tuple[str, str]:
+    """Controller form and filter family, the report's (``[design]`` of the report's setup) where None."""
+    design = report_config().design
+    return (design.form if form is None else form, design.filter if family is None else family)
+
+
 def filter_controller(
     ideal: IdealController,
     fc_hz: float,
-    family: str = "butterworth",
+    family: str,
     order: int | None = None,
     ripple_db: float = 0.5,
     fc_w_hz: float | None = None,
@@ -221,7 +227,7 @@ def design_at_fc(
     fc_hz: float,
     criteria: DesignCriteria | None = None,
     *,
-    family: str = "butterworth",
+    family: str,
     order: int | None = None,
     ripple_db: float = 0.5,
     fc_w_hz: float | None = None,
@@ -336,8 +342,7 @@ def design_controller(
     >>> d.H_uw.is_proper, d.filter.order_w
     (True, 3)
     """
-    form = report_config().design.form if form is None else form
-    family = report_config().design.filter if family is None else family
+    form, family = report_design_choices(form, family)
     if form not in FORMS:
         raise ConfigError("form", "one of " + ", ".join(FORMS), form)
     for key, value in (("fc", fc_hz), ("fc_w", fc_w_hz)):

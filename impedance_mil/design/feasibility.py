@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import ImilError
 from ..systems import TransferFunction
 from .constraints import ConstraintResult, DesignCriteria
-from .controller import design_at_fc
+from .controller import design_at_fc, report_design_choices
 from .coupled import CoupledStability, coupled_stability
 from .forms import TableModel, VirtualModel, environment, ideal_controller
 
@@ -155,8 +155,8 @@ def scan_fc(
     vs: VirtualModel | None,
     fc_grid_hz: Sequence[float] | None = None,
     *,
-    form: str = "standardized",
-    family: str = "butterworth",
+    form: str | None = None,
+    family: str | None = None,
     order: int | None = None,
     criteria: DesignCriteria | None = None,
 ) -> FcScan:
@@ -172,6 +172,7 @@ def scan_fc(
     form, family, order, criteria
         As for :func:`~impedance_mil.design.design_controller`.
     """
+    form, family = report_design_choices(form, family)
     env = environment(form, vs)
     ideal = ideal_controller(form, table, env)
     grid = np.sort(np.asarray(default_fc_grid(table) if fc_grid_hz is None else fc_grid_hz, float))
@@ -202,8 +203,8 @@ def choose_fc(
     vs: VirtualModel | None,
     fc_grid_hz: Sequence[float] | None = None,
     *,
-    form: str = "standardized",
-    family: str = "butterworth",
+    form: str | None = None,
+    family: str | None = None,
     order: int | None = None,
     criteria: DesignCriteria | None = None,
 ) -> FcChoice:
@@ -258,7 +259,7 @@ def mass_ratio_study(
     ratios: Sequence[float],
     fc_grid_hz: Sequence[float] | None = None,
     *,
-    form: str = "standardized",
+    form: str | None = None,
     criteria: DesignCriteria | None = None,
     design_fc_hz: float | None = None,
     specimens: Mapping[str, TransferFunction] | None = None,
@@ -284,16 +285,17 @@ def mass_ratio_study(
         Article impedances ``w/z`` [lbf per in/s**2] by label, e.g.
         ``{"vessel 36 in": FluidVessel(36).impedance()}``.
     """
+    form, family = report_design_choices(form, None)
     m_st = _table_mass(table)
     out = []
     for ratio in ratios:
         vs = vs_for_mass(float(ratio) * m_st)
-        scan = scan_fc(table, vs, fc_grid_hz, form=form, criteria=criteria)
+        scan = scan_fc(table, vs, fc_grid_hz, form=form, family=family, criteria=criteria)
         at, coupled = None, ()
         if design_fc_hz is not None:
             env = environment(form, vs)
             design = design_at_fc(
-                table, env, ideal_controller(form, table, env), float(design_fc_hz), criteria
+                table, env, ideal_controller(form, table, env), float(design_fc_hz), criteria, family=family
             )
             at = design.constraints
             coupled = tuple(
@@ -312,7 +314,7 @@ def feasibility_map(
     y_values: Sequence[float],
     fc_grid_hz: Sequence[float] | None = None,
     *,
-    form: str = "standardized",
+    form: str | None = None,
     criteria: DesignCriteria | None = None,
 ) -> FeasibilityMap:
     """Feasible cut-off range over a grid of two VS parameters ("can this table imitate that isolator?").

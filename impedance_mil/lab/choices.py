@@ -28,7 +28,7 @@ from ..plant import TableParameters
 from ..plant.parameters import ratings_from_report, table_mapping
 from ..report_config import ReportConfig, report_config
 from ..signals.sources import scaled_motion
-from ..specimens import FluidVessel, RigidMass, specimen_from_config
+from ..specimens import RigidMass, specimen_from_config
 from ..virtual.files import resolve
 from .descriptions import (
     ControllerChoice,
@@ -154,14 +154,10 @@ def choose_specimen(
             text,
         )
     if key == "none":
-        return SpecimenChoice(None, "bare table", 0.0)
+        return SpecimenChoice.bare()
     if key == "vessel":
         raw = _pick(choices.water_depth, cfg.specimen.water_depth_in, "specimen.water_depth", used)
-        depth = quantity(choices.key("water_depth"), raw, "inch", "nonnegative")
-        vessel = FluidVessel(water_depth_in=depth)
-        return SpecimenChoice(
-            vessel, f"vessel with {depth:g} in of water ({vessel.total_weight:.0f} lb)", vessel.total_weight
-        )
+        return SpecimenChoice.vessel(quantity(choices.key("water_depth"), raw, "inch", "nonnegative"))
     if key == "rigid":
         raw = _pick(choices.specimen_weight, cfg.specimen.article_weight_lbf, "specimen.article_weight", used)
         lbf = quantity(choices.key("specimen_weight"), raw, "force_pound", "positive")

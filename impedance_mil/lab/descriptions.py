@@ -34,6 +34,7 @@ from ..errors import ConfigError
 from ..plant import TableParameters
 from ..signals import GroundMotion
 from ..signals.multisine import report_multisine
+from ..specimens import FluidVessel
 from ..virtual.files import VSSpec
 from .experiments import ControlledRun, FrfExperiment, kp_study, run_frf, run_mil, run_tracking
 from .feedback import Feedback
@@ -66,6 +67,18 @@ class SpecimenChoice:
     specimen: Any
     label: str
     weight_lbf: float
+
+    @classmethod
+    def bare(cls) -> SpecimenChoice:
+        """The bare table."""
+        return cls(None, "bare table", 0.0)
+
+    @classmethod
+    def vessel(cls, water_depth_in: float) -> SpecimenChoice:
+        """The report's vessel (Section 3.2) with ``water_depth_in`` [in] of water."""
+        vessel = FluidVessel(water_depth_in=water_depth_in)
+        label = f"vessel with {water_depth_in:g} in of water ({vessel.total_weight:.0f} lb)"
+        return cls(vessel, label, vessel.total_weight)
 
 
 @dataclass(frozen=True)

@@ -69,12 +69,16 @@ class PretestFindings:
         Largest PGA [g] the force limit allows, when the force is exceeded.
     warnings : tuple of str
         Warnings for a run that goes ahead (the basemat prediction).
+    basemat_fit_pga_g : float or None
+        MIL, when the predicted basemat stroke exceeds the interlock: the PGA [g]
+        at which it would just fit (the stroke scales with the PGA).
     """
 
     refusal: str | None
     time_scale: float | None
     pga_g: float | None
     warnings: tuple[str, ...]
+    basemat_fit_pga_g: float | None = None
 
 
 @dataclass(frozen=True)
@@ -112,17 +116,19 @@ class Pretest:
             if not self.input.check("force").ok:
                 pga = self.input.max_pga_g
         warnings = []
+        fit_pga = None
         if self.basemat is not None and not self.basemat.ok:
             stroke = self.basemat.check("stroke")
             fit = ""
             if not stroke.ok:
-                fit = f"; at about {motion.pga_g * stroke.limit / stroke.peak:.2f} g it would fit"
+                fit_pga = motion.pga_g * stroke.limit / stroke.peak
+                fit = f"; at about {fit_pga:.2f} g it would fit"
             warnings.append(
                 "the VS basemat motion the table must follow (specimen taken as rigid) "
                 f"exceeds the lab's interlocks: {overruns(self.basemat)}; the run will "
                 f"probably be stopped{fit}"
             )
-        return PretestFindings(refusal, scale, pga, tuple(warnings))
+        return PretestFindings(refusal, scale, pga, tuple(warnings), fit_pga)
 
 
 def basemat_check(

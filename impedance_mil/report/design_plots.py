@@ -30,7 +30,7 @@ from ..design import (  # noqa: E402
     controlled_table,
     ideal_controller,
 )
-from ..design.controller import filter_controller  # noqa: E402
+from ..design.controller import filter_controller, report_design_choices  # noqa: E402
 from ..design.forms import environment  # noqa: E402
 
 #: Frequency axis of the Bode plots [Hz].
@@ -49,8 +49,8 @@ def plot_design_rows(
     vs: VirtualModel | None,
     fcs_hz: Sequence[float],
     *,
-    form: str = "standardized",
-    family: str = "butterworth",
+    form: str | None = None,
+    family: str | None = None,
     order: int | None = None,
     title: str = "",
 ) -> Figure:
@@ -64,10 +64,11 @@ def plot_design_rows(
     fcs_hz : sequence of float
         Cut-off frequencies [Hz], one row each.
     form, family, order
-        Controller form and filter.
+        Controller form and filter (form and family: the report's where None).
     title : str
         Figure title.
     """
+    form, family = report_design_choices(form, family)
     env = environment(form, vs)
     ideal = ideal_controller(form, table, env)
     f = BODE_HZ
