@@ -130,6 +130,9 @@ def design(
     output: Path | None = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
 ) -> None:
     """Design the impedance-matching MIL controller and check constraints I, II, III."""
+    given = {"design.form": form, "design.fc": fc, "design.filter": family}
+    defaults = {"design.form": _DESIGN.form, "design.fc": _DESIGN.fc_hz, "design.filter": _DESIGN.filter}
+    from_report = {key: defaults[key] for key, value in given.items() if value is None}
     form = _DESIGN.form if form is None else form
     family = _DESIGN.filter if family is None else family
     if form not in FORMS:
@@ -142,14 +145,14 @@ def design(
         raise ConfigError("-o", "a path in an existing folder", str(output))
     fcs = [_DESIGN.fc_hz] if fc is None else _parse_fc(fc)
     band_values = _parse_list("--band", band, 2)
-    given: dict[str, Any] = {
+    criteria_given: dict[str, Any] = {
         "band_hz": None if band_values is None else tuple(band_values),
         "performance_max": performance_max,
         "effort_ratio_max": effort_max,
         "passivity_extra_tolerance_deg": passivity_tol,
     }
     with option_errors(CRITERIA_OPTIONS):
-        criteria = DesignCriteria(**{k: v for k, v in given.items() if v is not None})
+        criteria = DesignCriteria(**{k: v for k, v in criteria_given.items() if v is not None})
     ratios = _parse_list("--mass-ratios", mass_ratios)
     params = table_parameters(table, sets)
     tm = table_model(params)
@@ -229,6 +232,7 @@ def design(
         written.append(save_design(result, output))
     doc = result.to_json()
     doc["fc_choice_reasons"] = reasons
+    doc["from_report"] = from_report
     doc["vs_linearization"] = (
         vm.equivalent.to_dict() if vm is not None and vm.equivalent is not None else None
     )
