@@ -185,49 +185,10 @@ def design(
             emit_warnings=False,
             **kw,
         )
-    study = []
-    if ratios:
-        if spec is None:
-            raise ConfigError("--mass-ratios", "a VS (--vs) and a form other than tracking")
-        vessels = {f"vessel {d} in": FluidVessel(d).impedance() for d in _DESIGN.coupled_water_depths_in}
-        study = [
-            c.to_dict()
-            for c in mass_ratio_study(
-                tm,
-                lambda m: virtual_model(
-                    resolve(vs, {**parse_overrides(sets_vs, option="--set-vs"), "m_vs": m}).vs,
-                    spec.name,
-                    **lin,
-                ),
-                ratios,
-                form=form,
-                criteria=criteria,
-                design_fc_hz=fcs[0],
-                specimens=vessels,
-            )
-        ]
-    written = []
-    if plots is not None:
-        rows = (
-            fcs
-            if len(fcs) > 1
-            else sorted(
-                {*([scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]] if scan.feasible_fc_hz else []), fcs[0]}
-            )
-        )
-        label = f"{form} controller, {spec.name if spec else 'tracking'}"
-        written.append(
-            save_figure(
-                plot_design_rows(tm, vm, rows, form=form, family=family, order=order, title=label),
-                plots / "design_fig931.png",
-            )
-        )
-        written.append(
-            save_figure(
-                plot_constraint_summary(scan.results, criteria, scan.feasible_fc_hz, title=label),
-                plots / "design_constraints.png",
-            )
-        )
+    study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []
+    written = (
+        [] if plots is None else _write_plots(plots, tm, vm, fcs, scan, form, family, order, criteria, spec)
+    )
     if output is not None:
         written.append(save_design(result, output))
     doc = result.to_json()
@@ -242,6 +203,41 @@ def design(
         print_json(doc)
         return
     _print_human(result, reasons, study, written)
+
+
+def _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, design_fc_hz) -> list[dict]:
+    """The basemat-mass study (Section 9.4.4), coupled with the report's vessel at each of its depths."""
+    if spec is None:
+        raise ConfigError("--mass-ratios", "a VS (--vs) and a form other than tracking")
+    vessels = {f"vessel {d} in": FluidVessel(d).impedance() for d in _DESIGN.coupled_water_depths_in}
+    overrides = parse_overrides(sets_vs, option="--set-vs")
+    cases = mass_ratio_study(
+        tm,
+        lambda m: virtual_model(resolve(vs, {**overrides, "m_vs": m}).vs, spec.name, **lin),
+        ratios,
+        form=form,
+        criteria=criteria,
+        design_fc_hz=design_fc_hz,
+        specimens=vessels,
+    )
+    return [c.to_dict() for c in cases]
+
+
+def _write_plots(plots, tm, vm, fcs, scan, form, family, order, criteria, spec) -> list[Path]:
+    """Figure 9.31 rows (the cut-offs, or the feasible range's ends and the design's) and the constraints."""
+    ends = [scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]] if scan.feasible_fc_hz else []
+    rows = fcs if len(fcs) > 1 else sorted({*ends, fcs[0]})
+    label = f"{form} controller, {spec.name if spec else 'tracking'}"
+    return [
+        save_figure(
+            plot_design_rows(tm, vm, rows, form=form, family=family, order=order, title=label),
+            plots / "design_fig931.png",
+        ),
+        save_figure(
+            plot_constraint_summary(scan.results, criteria, scan.feasible_fc_hz, title=label),
+            plots / "design_constraints.png",
+        ),
+    ]
 
 
 def _print_human(result, reasons, study, written) -> None:
