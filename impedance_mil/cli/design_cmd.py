@@ -23,16 +23,16 @@ import typer
 
 from ..config import parse_overrides
 from ..design import DesignCriteria, design_controller, save_design, table_model, virtual_model
-from ..design.feasibility import choose_fc, mass_ratio_study, scan_fc
+from ..design.feasibility import FcScan, choose_fc, mass_ratio_study, scan_fc
 from ..design.filters import FAMILIES
-from ..design.forms import FORMS
+from ..design.forms import FORMS, TableModel, VirtualModel
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..errors import ConfigError
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
 from ..report_config import report_config
 from ..specimens import FluidVessel
-from ..virtual.files import resolve
+from ..virtual.files import VSSpec, resolve
 from .common import console, option_errors, positive_numbers, print_json, table_parameters
 
 _DESIGN = report_config().design
@@ -163,7 +163,7 @@ def design(
         raise ConfigError("--linearization", "one of " + ", ".join(METHODS), linearization)
     if not amplitude > 0:
         raise ConfigError("--amplitude", "a positive displacement amplitude in in", amplitude)
-    lin = dict(linearization=linearization, amplitude_in=amplitude)
+    lin: dict[str, Any] = dict(linearization=linearization, amplitude_in=amplitude)
     vm = virtual_model(spec.vs, spec.name, **lin) if spec is not None else None
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
@@ -205,9 +205,19 @@ def design(
     _print_human(result, reasons, study, written)
 
 
-def _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, design_fc_hz) -> list[dict]:
+def _mass_ratio_rows(
+    tm: TableModel,
+    vs: str | None,
+    sets_vs: list[str] | None,
+    spec: VSSpec | None,
+    lin: dict[str, Any],
+    ratios: list[float],
+    form: str,
+    criteria: DesignCriteria,
+    design_fc_hz: float,
+) -> list[dict]:
     """The basemat-mass study (Section 9.4.4), coupled with the report's vessel at each of its depths."""
-    if spec is None:
+    if spec is None or vs is None:
         raise ConfigError("--mass-ratios", "a VS (--vs) and a form other than tracking")
     vessels = {f"vessel {d} in": FluidVessel(d).impedance() for d in _DESIGN.coupled_water_depths_in}
     overrides = parse_overrides(sets_vs, option="--set-vs")
@@ -223,7 +233,18 @@ def _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, design_
     return [c.to_dict() for c in cases]
 
 
-def _write_plots(plots, tm, vm, fcs, scan, form, family, order, criteria, spec) -> list[Path]:
+def _write_plots(
+    plots: Path,
+    tm: TableModel,
+    vm: VirtualModel | None,
+    fcs: list[float],
+    scan: FcScan,
+    form: str,
+    family: str,
+    order: int | None,
+    criteria: DesignCriteria,
+    spec: VSSpec | None,
+) -> list[Path]:
     """Figure 9.31 rows (the cut-offs, or the feasible range's ends and the design's) and the constraints."""
     ends = [scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]] if scan.feasible_fc_hz else []
     rows = fcs if len(fcs) > 1 else sorted({*ends, fcs[0]})
