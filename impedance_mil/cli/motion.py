@@ -68,13 +68,13 @@ def parse_periods(text: str | None) -> np.ndarray:
     malformed = "comma-separated periods in s or log:MIN:MAX:N"
     if not text.strip().lower().startswith("log:"):
         return np.array(positive_numbers("--periods", text, malformed, "one or more positive periods in s"))
+    parts = text.split(":")
     try:
-        _, lo, hi, n = text.split(":")
-        low, high, count = float(lo), float(hi), int(n)
-        if not (0 < low < high and count >= 2):
-            raise ValueError
-    except ValueError:
+        low, high, count = float(parts[1]), float(parts[2]), int(parts[3])
+    except (ValueError, IndexError):
         raise ConfigError("--periods", malformed, text) from None
+    if len(parts) != 4 or not (0 < low < high and count >= 2):
+        raise ConfigError("--periods", malformed, text)
     return np.logspace(np.log10(low), np.log10(high), count)
 
 
