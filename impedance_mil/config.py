@@ -9,11 +9,34 @@ Domain packages describe their keys with a plain mapping
 ``{key: Field(unit=..., check=...)}`` and call :func:`parse_fields`; they
 never import pint themselves.  A mass may be given as a weight-like mass
 (``"1600 lb"``); pint converts pound-mass to lbf*s**2/in exactly.
+
+A value is converted by its dimension; nothing is taken as a bare number
+because pint calls it "unitless":
+
+* a string without a unit (``"5"``) is a bare number, in the report's unit;
+* a dimensionless ratio may be given in percent (``"20 percent"`` or
+  ``"20 %"`` is 0.2), per mille or ppm; a key with a dimension given in
+  percent, or in any other wrong dimension, is refused naming the key;
+* pint takes the radian as dimensionless, which would read ``"169.6 rad/s"``
+  as 169.6 Hz.  Angles are therefore counted: a frequency key [Hz] given as
+  an angular frequency (``rad/s``, ``deg/s``, ``rpm``, ``turn/s``) is divided
+  by one cycle (2 pi rad), so ``"169.6 rad/s"`` is 26.99 Hz; an angle
+  anywhere else (``zeta = "5 deg"``) is refused.  ``"1/s"`` for a frequency
+  key is read as Hz (cycles per second);
+* an integer key (``Field(integer=True)``) refuses a value that is not a
+  whole number (2.5 is not 2).
+
+Bounded work (``docs/limits.md``): a value with a unit has at most
+:data:`MAX_QUANTITY_CHARS` characters and no run of more than
+:data:`MAX_NUMBER_DIGITS` digits, and :func:`read_toml` refuses a file larger
+than :data:`MAX_TOML_BYTES` or nested deeper than :data:`MAX_TOML_DEPTH`
+before parsing it.
 """
 
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -33,6 +56,42 @@ for _definition in PINT_DEFINITIONS:
 #: Allowed checks for a field value.
 CHECKS = ("positive", "nonnegative", "any", "fraction")
 
+#: Longest value with a unit [characters]; pint's parser takes minutes over very long strings.
+MAX_QUANTITY_CHARS = 200
+
+#: Most digits in one run of digits of a number: a double carries 17 significant
+#: digits, and Python takes minutes to convert a number of millions of digits.
+MAX_NUMBER_DIGITS = 100
+
+#: Largest TOML file read [bytes]; the largest shipped configuration is a few kB.
+MAX_TOML_BYTES = 1 << 20
+
+#: Deepest nesting of tables and arrays in a TOML file; configurations use 4 or 5 levels.
+MAX_TOML_DEPTH = 32
+
+_LONG_DIGITS = f"[0-9][0-9_]{{{MAX_NUMBER_DIGITS},}}"
+_LONG_DIGITS_RE = re.compile(_LONG_DIGITS)
+
+#: The tokens of a TOML text that the checks before parsing look at: strings and
+#: comments (skipped whole), brackets (nesting) and long runs of digits (number size).
+_TOML_SCAN_RE = re.compile(
+    "|".join(
+        (
+            r'"""(?:\\.|[^\\])*?"""',  # multi-line basic string
+            r"'''.*?'''",  # multi-line literal string
+            r'"(?:\\.|[^"\\\n])*"',  # basic string
+            r"'[^'\n]*'",  # literal string
+            r"#[^\n]*",  # comment
+            r"[\[\]{}]",
+            _LONG_DIGITS,
+        )
+    ),
+    re.DOTALL,
+)
+
+#: Longest raw value echoed in an error message [characters].
+_SHOWN_CHARS = 60
+
 
 @dataclass(frozen=True)
 class Field:
@@ -51,6 +110,8 @@ class Field:
         Value used when the key is absent; ``None`` makes the key required.
     help : str
         One-line description used in error messages and docs.
+    integer : bool
+        The value must be a whole number (a count, such as a number of modes).
     """
 
     unit: str
@@ -58,21 +119,25 @@ class Field:
     count: int = 1
     default: Any = None
     help: str = ""
+    integer: bool = False
 
 
-def quantity(key: str, value: Any, unit: str, check: str = "any") -> float:
-    """Convert one configuration value to the internal unit.
+def quantity(key: str, value: Any, unit: str, check: str = "any", *, integer: bool = False) -> float:
+    """Convert one configuration value to the internal unit, by its dimension.
 
     Parameters
     ----------
     key : str
         Name of the key (used in error messages).
     value : float or str
-        Bare number in the report's unit, or a string with a unit.
+        Bare number in the report's unit, or a string with a unit (see the
+        module docstring for percent, angular frequencies and angles).
     unit : str
         Target internal unit (pint expression).
     check : str
         Range check, one of :data:`CHECKS`.
+    integer : bool
+        Require a whole number.
 
     Returns
     -------
@@ -82,32 +147,83 @@ def quantity(key: str, value: Any, unit: str, check: str = "any") -> float:
     Raises
     ------
     ConfigError
-        Wrong dimension, unparsable string, NaN/inf, or out of range.
+        Wrong dimension, unparsable or overlong string, NaN/inf, out of
+        range, or not a whole number when ``integer``.
+
+    Examples
+    --------
+    >>> round(quantity("f_oil_hz", "169.6 rad/s", "hertz"), 3)
+    26.993
+    >>> quantity("zeta", "20 percent", "dimensionless")
+    0.2
+    >>> quantity("Ke", "500 percent", "volt / inch")
+    Traceback (most recent call last):
+    ...
+    impedance_mil.errors.ConfigError: Ke: expected a quantity with the dimension of volt / inch, got '500 percent'
     """
     if isinstance(value, bool):
         raise ConfigError(key, f"a number in {unit}", value)
     if isinstance(value, (int, float)):
-        number = float(value)
+        number = _as_float(key, value)
     elif isinstance(value, str):
-        text = value.strip()
-        try:
-            parsed = _UREG.Quantity(text)
-        except Exception:  # pint raises many types for bad strings
-            raise ConfigError(key, f"a number or a quantity in {unit}", value) from None
-        try:
-            if isinstance(parsed, (int, float)) or parsed.unitless:
-                # A number written as a string is still a bare number: the report's unit.
-                number = float(getattr(parsed, "magnitude", parsed))
-            else:
-                number = float(parsed.to(unit).magnitude)
-        except pint.DimensionalityError:
-            raise ConfigError(key, f"a quantity with the dimension of {unit}", value) from None
+        number = _parse_text(key, value, unit)
     else:
-        raise ConfigError(key, f"a number in {unit}", value)
+        raise ConfigError(key, f"a number in {unit}", _shown(value))
     if not math.isfinite(number):
-        raise ConfigError(key, "a finite number", value)
-    _check_range(key, number, check, value)
+        raise ConfigError(key, "a finite number", _shown(value))
+    _check_range(key, number, check, _shown(value))
+    if integer and number != math.floor(number):
+        raise ConfigError(key, "a whole number", _shown(value))
     return number
+
+
+def _shown(value: Any) -> Any:
+    """``value`` as echoed in an error message: a long value is cut to about :data:`_SHOWN_CHARS`."""
+    text = value if isinstance(value, str) else repr(value)
+    if len(text) <= _SHOWN_CHARS:
+        return value
+    return f"{text[: _SHOWN_CHARS // 2]}...{text[-10:]} ({len(text)} characters)"
+
+
+def _as_float(key: str, value: Any) -> float:
+    try:
+        return float(value)
+    except OverflowError:  # an int beyond the range of a double
+        raise ConfigError(key, "a finite number", _shown(value)) from None
+
+
+def _parse_text(key: str, value: str, unit: str) -> float:
+    """A string with or without a unit, converted to ``unit`` by dimension (see the module docstring)."""
+    text = value.strip()
+    if len(text) > MAX_QUANTITY_CHARS:
+        raise ConfigError(key, f"a value of at most {MAX_QUANTITY_CHARS} characters", _shown(value))
+    if _LONG_DIGITS_RE.search(text):
+        raise ConfigError(key, f"a number of at most {MAX_NUMBER_DIGITS} digits", _shown(value))
+    try:
+        parsed = _UREG.Quantity(text)
+    except Exception:  # pint raises many types for bad strings
+        raise ConfigError(key, f"a number or a quantity in {unit}", value) from None
+    if not isinstance(parsed, _UREG.Quantity):  # pint may hand back a plain number
+        return _as_float(key, parsed)
+    if not dict(parsed.unit_items()):
+        # A number written as a string is still a bare number: the report's unit.
+        return _as_float(key, parsed.magnitude)
+    target = _UREG.Quantity(1.0, unit)
+    extra_angle = _angle_power(parsed) - _angle_power(target)
+    try:
+        if extra_angle == 0:
+            return _as_float(key, parsed.to(unit).magnitude)
+        if extra_angle == 1 and target.dimensionality == _UREG.get_dimensionality("1 / second"):
+            # An angular frequency for a key in Hz: cycles per second, one cycle = 2 pi rad.
+            return _as_float(key, (parsed / _UREG.turn).to(unit).magnitude)
+    except pint.DimensionalityError:
+        pass
+    raise ConfigError(key, f"a quantity with the dimension of {unit}", value)
+
+
+def _angle_power(q: Any) -> int:
+    """Power of the radian in a quantity's root units: 1 for rad/s and rpm, 0 for Hz and percent."""
+    return int(dict(q.to_root_units().unit_items()).get("radian", 0))
 
 
 def _check_range(key: str, number: float, check: str, raw: Any) -> None:
@@ -156,29 +272,75 @@ def parse_fields(
             continue
         raw = mapping[key]
         if spec.count == 1:
-            out[key] = quantity(name, raw, spec.unit, spec.check)
+            out[key] = quantity(name, raw, spec.unit, spec.check, integer=spec.integer)
         else:
             if isinstance(raw, str) and "," in raw:
                 raw = [part for part in raw.split(",")]
             if not isinstance(raw, (list, tuple)) or len(raw) != spec.count:
-                raise ConfigError(name, f"a list of {spec.count} values in {spec.unit}", raw)
-            out[key] = tuple(quantity(name, v, spec.unit, spec.check) for v in raw)
+                raise ConfigError(name, f"a list of {spec.count} values in {spec.unit}", _shown(raw))
+            out[key] = tuple(quantity(name, v, spec.unit, spec.check, integer=spec.integer) for v in raw)
     return out
 
 
 def read_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file.
+    """Read a TOML file, refusing an oversized or overdeep file before parsing it.
+
+    Checked before parsing (``docs/limits.md``): at most :data:`MAX_TOML_BYTES`
+    bytes, arrays and inline tables nested at most :data:`MAX_TOML_DEPTH`
+    deep, and no run of more than :data:`MAX_NUMBER_DIGITS` digits outside
+    strings (Python's TOML parser recurses once per level, and takes minutes
+    over a number of millions of digits).  After parsing, tables (dotted keys
+    included) may nest at most :data:`MAX_TOML_DEPTH` deep.
 
     Raises
     ------
     DataFileError
-        The file is missing, unreadable or not valid TOML.
+        The file is missing, unreadable, too large, nested too deep, holds an
+        overlong number, or is not valid TOML.
     """
-    text = read_text(path, "a TOML file")
+    text = read_text(path, "a TOML file", max_bytes=MAX_TOML_BYTES)
+    _check_toml_text(path, text)
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise DataFileError(path, f"not valid TOML ({exc})") from None
+    except (RecursionError, ValueError):  # a case the checks above missed
+        raise DataFileError(path, "not valid TOML (nested too deep or a number too large)") from None
+    if _nesting_depth(data) > MAX_TOML_DEPTH:
+        raise DataFileError(path, f"tables nested more than {MAX_TOML_DEPTH} deep")
+    return data
+
+
+def _check_toml_text(path: str | Path, text: str) -> None:
+    depth = 0
+    for match in _TOML_SCAN_RE.finditer(text):
+        token = match.group()
+        if token in ("[", "{"):
+            depth += 1
+            if depth > MAX_TOML_DEPTH:
+                line = text.count("\n", 0, match.start()) + 1
+                raise DataFileError(
+                    path, f"line {line}: arrays or tables nested more than {MAX_TOML_DEPTH} deep"
+                )
+        elif token in ("]", "}"):
+            depth = max(depth - 1, 0)
+        elif token[0].isdigit():
+            line = text.count("\n", 0, match.start()) + 1
+            raise DataFileError(path, f"line {line}: a number of more than {MAX_NUMBER_DIGITS} digits")
+
+
+def _nesting_depth(data: Any) -> int:
+    """Deepest nesting of dicts and lists in ``data``, walked without recursion (capped just past the limit)."""
+    deepest = 0
+    stack = [(data, 1)]
+    while stack:
+        node, depth = stack.pop()
+        if isinstance(node, (dict, list)):
+            deepest = max(deepest, depth)
+            if depth > MAX_TOML_DEPTH:
+                return depth
+            stack.extend((child, depth + 1) for child in (node.values() if isinstance(node, dict) else node))
+    return deepest
 
 
 def parse_overrides(items: Sequence[str] | None, *, option: str = "--set") -> dict[str, Any]:
@@ -197,7 +359,7 @@ def parse_overrides(items: Sequence[str] | None, *, option: str = "--set") -> di
         key, sep, value = item.partition("=")
         key = key.strip()
         if not sep or not key:
-            raise ConfigError(option, "KEY=VALUE", item)
+            raise ConfigError(option, "KEY=VALUE", _shown(item))
         value = value.strip()
         try:
             out[key] = float(value)

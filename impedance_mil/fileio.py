@@ -18,22 +18,43 @@ exclusively, with the permissions of the process umask.
 :func:`read_text` reads a UTF-8 file and turns every way it can fail into a
 one-line :class:`~impedance_mil.errors.DataFileError` naming the file.
 
+Integrity helpers: :func:`file_sha256` (the checksum recorded with a file
+and checked before it is trusted again), :func:`stale_temporaries` /
+:func:`remove_stale_temporaries` (what a killed process left behind), and
+:func:`folder_lock` (one writer per folder).
+
 This module sits at the bottom of the package (standard library and
 :mod:`impedance_mil.errors` only).
 """
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
+import re
 import secrets
 import shutil
+import socket
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from .errors import DataFileError
+from .errors import DataFileError, ImilError
+
+try:  # POSIX; Windows locks with msvcrt
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX
+    fcntl = None  # type: ignore[assignment]
+    import msvcrt
+
+#: Names :func:`temporary_name` makes: ``.<name>.<tag>-<pid>-<8 hex digits>``.
+_TEMPORARY_RE = re.compile(r"^\..+\.(tmp|old)-[0-9]+-[0-9a-f]{8}$")
+
+
+class FolderLockedError(ImilError, BlockingIOError):
+    """Another process holds the lock of a folder (:func:`folder_lock`)."""
 
 
 def temporary_name(path: str | os.PathLike, tag: str = "tmp") -> Path:
@@ -140,7 +161,7 @@ def atomic_directory(path: str | os.PathLike) -> Iterator[Path]:
             shutil.rmtree(tmp)
 
 
-def read_text(path: str | os.PathLike, expected: str = "a text file") -> str:
+def read_text(path: str | os.PathLike, expected: str = "a text file", max_bytes: int | None = None) -> str:
     """The UTF-8 text of the file at ``path``.
 
     Parameters
@@ -150,16 +171,27 @@ def read_text(path: str | os.PathLike, expected: str = "a text file") -> str:
     expected : str
         What the file should be, for the message when ``path`` is a folder
         (e.g. ``"a TOML file"``).
+    max_bytes : int, optional
+        Refuse a file larger than this many bytes, before reading it (a
+        configuration file of gigabytes is a mistake, not a configuration).
 
     Raises
     ------
     DataFileError
         One line naming the file: not found, a directory, permission denied,
-        not UTF-8 text, or another read error.
+        too large, not UTF-8 text, or another read error.
     """
     p = Path(path)
     try:
-        return p.read_text(encoding="utf-8")
+        with open(p, "rb") as fh:
+            size = os.fstat(fh.fileno()).st_size
+            if max_bytes is not None and size > max_bytes:
+                raise DataFileError(p, f"{size} bytes, larger than {expected} may be ({max_bytes} bytes)")
+            data = fh.read() if max_bytes is None else fh.read(max_bytes + 1)
+        if max_bytes is not None and len(data) > max_bytes:
+            raise DataFileError(p, f"larger than {expected} may be ({max_bytes} bytes)")
+        # Universal newlines, as text mode reads them ("\r\n" and "\r" become "\n").
+        return data.decode("utf-8").replace("\r\n", "\n").replace("\r", "\n")
     except FileNotFoundError:
         raise DataFileError(p, "file not found") from None
     except IsADirectoryError:
@@ -197,3 +229,97 @@ def json_safe(value: Any) -> Any:
     if isinstance(value, float) and not math.isfinite(value):
         return None
     return value
+
+
+def file_sha256(path: str | os.PathLike, chunk_bytes: int = 1 << 20) -> str:
+    """Hex SHA-256 of a file's bytes, read in chunks (a run file of gigabytes never sits in memory).
+
+    Raises
+    ------
+    OSError
+        The file cannot be read.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> path = Path(tempfile.mkdtemp()) / "a.bin"
+    >>> _ = path.write_bytes(b"abc")
+    >>> file_sha256(path)[:16]
+    'ba7816bf8f01cfea'
+    """
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(chunk_bytes), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def stale_temporaries(folder: str | os.PathLike) -> list[Path]:
+    """Temporary files and folders (:func:`temporary_name`) left in ``folder`` and its subfolders.
+
+    Only names of the form ``.<name>.tmp-<pid>-<hex>`` or ``.<name>.old-<pid>-<hex>``
+    are listed; they are stale when no process is writing the folder (hold
+    :func:`folder_lock` first).
+    """
+    root = Path(folder)
+    if not root.is_dir():
+        return []
+    found = []
+    for dirpath, dirnames, filenames in os.walk(root):
+        for name in filenames + dirnames:
+            if _TEMPORARY_RE.match(name):
+                found.append(Path(dirpath) / name)
+        dirnames[:] = [d for d in dirnames if not _TEMPORARY_RE.match(d)]
+    return sorted(found)
+
+
+def remove_stale_temporaries(folder: str | os.PathLike) -> list[Path]:
+    """Remove what :func:`stale_temporaries` lists (e.g. after a SIGKILL); return the paths removed."""
+    removed = stale_temporaries(folder)
+    for path in removed:
+        if path.is_dir() and not path.is_symlink():
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            path.unlink(missing_ok=True)
+    return removed
+
+
+@contextmanager
+def folder_lock(
+    folder: str | os.PathLike, name: str = ".lock", holder: str = "another process"
+) -> Iterator[Path]:
+    """Hold an exclusive lock on ``folder`` for the block; refuse at once if another process holds it.
+
+    The lock is an operating-system lock (``flock`` on POSIX) on the file
+    ``folder/name``, which holds the ``host:pid`` of its holder for the
+    message.  The system releases it when the holder exits, even by SIGKILL,
+    so a crash never leaves the folder locked.  ``holder`` says who the other
+    process is, for the message (e.g. ``"another imil campaign run"``).
+
+    Raises
+    ------
+    FolderLockedError
+        Another process holds the lock (one line naming the folder and the holder).
+    OSError
+        The folder does not exist or is not writable.
+    """
+    path = Path(folder) / name
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        try:
+            if fcntl is not None:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            else:  # pragma: no cover - not POSIX
+                msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)
+        except OSError:
+            os.lseek(fd, 0, os.SEEK_SET)
+            who = os.read(fd, 200).decode("utf-8", "replace").strip() or "pid unknown"
+            raise FolderLockedError(
+                f"{folder}: in use by {holder} ({who}); wait for it to finish or use another folder"
+            ) from None
+        os.ftruncate(fd, 0)
+        os.lseek(fd, 0, os.SEEK_SET)
+        os.write(fd, f"{socket.gethostname()}:{os.getpid()}\n".encode())
+        yield path
+    finally:
+        os.close(fd)  # closing the descriptor releases the lock

@@ -29,12 +29,15 @@ are ``base``, then the study's ``set``, then its own values; a parameter may
 appear only once among ``set``, ``cases``, ``product`` and ``zip``.  Every
 value is validated against the kind's parameters (name, unit, range) before
 anything runs, and the number of runs is checked against ``max_runs`` before
-the list is built.
+the list is built.  The campaign's name is one safe path component (it names
+the default folder ``campaign-NAME``, which must stay where it is asked to
+be), and no two studies share a name (their runs would be merged).
 """
 
 from __future__ import annotations
 
 import itertools
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -51,6 +54,10 @@ DEFAULT_MAX_RUNS = 10_000
 
 #: Folder of the built-in campaign files.
 BUILTIN_DIR = Path(__file__).resolve().parent.parent / "data" / "campaigns"
+
+#: A campaign name: it names the default folder (``campaign-NAME``), so one safe path component.
+NAME_PATTERN = r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}"
+_NAME_RE = re.compile(NAME_PATTERN)
 
 _TOP_KEYS = {"campaign", "base", "study", "reduced"}
 _CAMPAIGN_KEYS = {"name", "kind", "title", "section", "base_config", "description"}
@@ -175,7 +182,7 @@ def load_campaign(
         raise ConfigError("campaign", "a [campaign] table with name and kind")
     _check_keys(head, _CAMPAIGN_KEYS, "campaign.")
     kind = get_kind(_text(head, "kind", "campaign."))
-    name = _text(head, "name", "campaign.", default=path.stem)
+    name = _name(_text(head, "name", "campaign.", default=path.stem), "campaign.name")
     base_file = _base_config(head, path)
     reduced_table = _table(raw, "reduced", "")
     _check_keys(reduced_table, {"base"}, "reduced.")
@@ -243,10 +250,18 @@ def _studies(raw: Mapping[str, Any], reduced: bool) -> list[tuple[str, dict[str,
     if not isinstance(items, list) or not items:
         raise ConfigError("study", "at least one [[study]] table")
     out = []
+    names: set[str] = set()
     for index, study in enumerate(items):
         where = f"study[{index}]"
         if not isinstance(study, dict):
             raise ConfigError(where, "a table", study)
+        if "name" in study:
+            _text(study, "name", where + ".")
+            if study["name"] in names:
+                raise ConfigError(
+                    f"{where}.name", "a name no other study has (two studies would be merged)", study["name"]
+                )
+            names.add(study["name"])
         where = f"study.{study.get('name', index)}"
         _check_keys(study, _STUDY_KEYS, where + ".")
         rule = study.get("reduced", True)
@@ -351,6 +366,17 @@ def _text(table: Mapping[str, Any], key: str, where: str, default: str | None = 
     value = table.get(key, default)
     if not isinstance(value, str) or not value:
         raise ConfigError(f"{where}{key}", "a non-empty string", value)
+    return value
+
+
+def _name(value: str, key: str) -> str:
+    """A campaign name that is one safe path component (no ``/``, no ``..``, no leading dot)."""
+    if not _NAME_RE.fullmatch(value):
+        raise ConfigError(
+            key,
+            "a name of at most 64 letters, digits, '.', '_' or '-', starting with a letter or digit",
+            value,
+        )
     return value
 
 

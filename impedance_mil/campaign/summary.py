@@ -158,6 +158,16 @@ def write_summary(store: CampaignStore, spec: CampaignSpec) -> SummaryPaths:
     return SummaryPaths(csv_path, parquet_path)
 
 
+def _verify_outputs(store: CampaignStore, run_ids: list[str]) -> None:
+    for run_id in run_ids:
+        record = store.load_record(run_id)
+        problem = store.output_problem(record) if record is not None and record.done else ""
+        if problem:
+            raise DataFileError(
+                store.root, f"run {run_id}: {problem}; run the campaign again on this folder to redo it"
+            )
+
+
 def to_csv(table: SummaryTable) -> str:
     """The table as CSV text (floats at full precision, missing values empty)."""
     buffer = io.StringIO()
@@ -235,17 +245,26 @@ def read_csv_summary(path: Path) -> SummaryTable:
 def load_summary(folder: str | Path) -> SummaryTable:
     """The summary of a campaign folder: from its records when present, else its ``summary.csv``.
 
+    With records, every done run's output is verified first
+    (:meth:`CampaignStore.output_problem`: inside the folder, present, its
+    checksum the recorded one, opens), so that nothing is reported over a
+    truncated or altered file.
+
     Raises
     ------
     DataFileError
-        The folder holds neither ``campaign.json`` nor ``summary.csv``.
+        The folder holds neither ``campaign.json`` nor ``summary.csv``, or a
+        done run's output does not verify (running the campaign again redoes it).
     """
     store = CampaignStore(folder)
     if (store.root / "campaign.json").is_file():
         try:
-            return summary_table(store, store.read_json("campaign.json"))
+            manifest = store.read_json("campaign.json")
+            table = summary_table(store, manifest)
         except (ValueError, KeyError, TypeError):
             raise DataFileError(store.root / "campaign.json", "not a campaign manifest") from None
+        _verify_outputs(store, [row["run_id"] for row in table.rows])
+        return table
     if (store.root / "summary.csv").is_file():
         return read_csv_summary(store.root / "summary.csv")
     raise DataFileError(folder, "not a campaign folder (no campaign.json or summary.csv)")

@@ -12,10 +12,12 @@ every command.
 from __future__ import annotations
 
 import sys
+import warnings
 
 import typer
 
 from ..errors import ImilError
+from ..plausibility import one_line_warning
 from . import campaign, demo, design_cmd, export, motion, report_cmd, simulate, table, vs
 
 # typer >= 0.20 parses with its own copy of click (typer._click); older versions with click itself.
@@ -68,6 +70,7 @@ def run() -> None:
     become one line on stderr with exit status 2; ``imil`` or a command group
     without a command prints its help (exit status 2, as click does).
     """
+    warnings.formatwarning = one_line_warning  # the package's warnings as one line on stderr
     try:
         code = app(standalone_mode=False)
     except _NO_ARGS_HELP as exc:

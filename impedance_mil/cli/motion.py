@@ -30,6 +30,7 @@ from ..signals import (
     GroundMotion,
     TableLimits,
     check_motion,
+    log_periods,
     response_spectrum,
     write_columns,
 )
@@ -75,7 +76,7 @@ def parse_periods(text: str | None) -> np.ndarray:
         raise ConfigError("--periods", malformed, text) from None
     if len(parts) != 4 or not (0 < low < high and count >= 2):
         raise ConfigError("--periods", malformed, text)
-    return np.logspace(np.log10(low), np.log10(high), count)
+    return log_periods(low, high, count)
 
 
 @app.command("list")

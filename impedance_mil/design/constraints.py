@@ -82,10 +82,10 @@ class DesignCriteria:
             raise ConfigError(
                 "effort_start_fraction", "a fraction of the loop rate in (0, 0.5)", self.effort_start_fraction
             )
-        if self.passivity_extra_tolerance_deg < 0:
+        if not 0 <= self.passivity_extra_tolerance_deg < np.inf:  # NaN fails too
             raise ConfigError(
                 "passivity_extra_tolerance_deg",
-                "a non-negative angle in deg",
+                "a finite non-negative angle in deg",
                 self.passivity_extra_tolerance_deg,
             )
 

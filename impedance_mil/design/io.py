@@ -30,8 +30,9 @@ import os
 from pathlib import Path
 from typing import Any
 
-from ..errors import DataFileError
+from ..errors import ConfigError, DataFileError
 from ..fileio import atomic_write_text, json_safe, read_text
+from ..plant.parameters import TableParameters
 from ..systems import TransferFunction
 from .constraints import ConstraintResult
 from .controller import ControllerDesign, FilterSpec
@@ -140,6 +141,14 @@ def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> Control
         raise DataFileError(where, f"missing field {missing[0]!r}")
     if doc["form"] not in FORMS:
         raise DataFileError(where, f"form {doc['form']!r} is not one of {', '.join(FORMS)}")
+    for key in ("H_uz", "H_uw", "H_ufh"):
+        _check_coefficients(doc[key], key, where)
+    if not isinstance(doc["table"], dict):
+        raise DataFileError(where, "table: expected the table parameters (TableParameters.to_dict())")
+    try:
+        TableParameters.from_mapping(doc["table"], where="table.")
+    except ConfigError as exc:
+        raise DataFileError(where, str(exc)) from None
     try:
         H = {
             k: (None if doc[k] is None else TransferFunction.from_dict(doc[k]))
@@ -161,7 +170,7 @@ def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> Control
         fc, loop = float(doc["fc_hz"]), float(doc["loop_time_s"])
         feas = doc["feasible_fc_hz"]
         feas = None if feas is None else (float(feas[0]), float(feas[1]))
-    except (KeyError, TypeError, ValueError, IndexError) as exc:
+    except (KeyError, TypeError, ValueError, IndexError, OverflowError) as exc:
         raise DataFileError(where, f"malformed design ({exc})") from None
     if H["H_uz"] is None or H["H_uw"] is None:
         raise DataFileError(where, "H_uz and H_uw must be transfer functions")
@@ -188,3 +197,22 @@ def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> Control
         vs=doc["vs"],
         software_version=str(doc["software_version"]),
     )
+
+
+def _check_coefficients(tf: Any, key: str, where: str | os.PathLike) -> None:
+    """Refuse coefficients that are not real numbers (a boolean is not a coefficient) or not finite."""
+    if tf is None or not isinstance(tf, dict):
+        return  # absent or malformed: design_from_dict says which
+    for part in ("num", "den"):
+        values = tf.get(part)
+        if not isinstance(values, list):
+            continue
+        for value in values:
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise DataFileError(where, f"{key}.{part}: expected numbers, got {value!r}")
+            try:
+                finite = math.isfinite(float(value))
+            except OverflowError:
+                finite = False
+            if not finite:
+                raise DataFileError(where, f"{key}.{part}: expected finite numbers, got {str(value)[:40]}")

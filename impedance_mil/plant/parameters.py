@@ -24,6 +24,7 @@ from typing import Any
 
 from ..config import Field, parse_fields, read_toml
 from ..errors import ConfigError
+from ..plausibility import check_table
 from ..report_config import report_config
 from ..units import INTERNAL_UNITS, TWO_PI
 
@@ -296,7 +297,9 @@ class TableParameters:
         Raises
         ------
         ConfigError
-            Unknown or missing key, wrong dimension, NaN, or out of range.
+            Unknown or missing key, wrong dimension, NaN, out of range, or a
+            physically impossible table (:func:`impedance_mil.plausibility.table_warnings`;
+            odd values give a ``PlausibilityWarning``).
         """
         raw = {**_report_ratings(mapping), **mapping}
         physical: dict[str, float] = {}
@@ -319,6 +322,7 @@ class TableParameters:
                     "a value giving zeta_oil < 1",
                     physical["leakage_coefficient"],
                 )
+        check_table(values, where=where)
         return cls(**values)
 
     @classmethod

@@ -4,7 +4,7 @@ from .fema import FEMA_RECORD_SETS, fema_available, read_fema_p695
 from .limits import LimitCheck, MotionCheck, TableLimits, check_motion, required_rated_flow
 from .motion import GroundMotion
 from .readers import BUILTIN_MOTIONS, builtin_motion, read_at2, read_columns, read_motion, write_columns
-from .spectrum import DEFAULT_PERIODS, Spectrum, oscillator_response, response_spectrum
+from .spectrum import DEFAULT_PERIODS, Spectrum, log_periods, oscillator_response, response_spectrum
 
 __all__ = [
     "BUILTIN_MOTIONS",
@@ -18,6 +18,7 @@ __all__ = [
     "builtin_motion",
     "check_motion",
     "fema_available",
+    "log_periods",
     "oscillator_response",
     "read_at2",
     "read_columns",

@@ -21,6 +21,7 @@ from fractions import Fraction
 import numpy as np
 from scipy.signal import resample_poly
 
+from ..bounds import MAX_RECORD_SAMPLES, check_count
 from ..errors import ConfigError
 from ..units import G0
 
@@ -95,6 +96,7 @@ class GroundMotion:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "time_step", _positive("time_step", self.time_step))
+        check_count("accel", np.size(self.accel), MAX_RECORD_SAMPLES, "samples in a record")
         values = np.array(self.accel, dtype=float, copy=True)
         if values.ndim != 1 or values.size < 2:
             raise ConfigError("accel", "a 1-D array of at least 2 samples", f"shape {values.shape}")
@@ -210,7 +212,8 @@ class GroundMotion:
         Raises
         ------
         ConfigError
-            Non-positive interval, or a ratio that is not such a fraction.
+            Non-positive interval, a ratio that is not such a fraction, or a
+            resampled record longer than :data:`~impedance_mil.bounds.MAX_RECORD_SAMPLES`.
         """
         new_dt = _positive("time_step", time_step)
         ratio = self.time_step / new_dt
@@ -222,6 +225,7 @@ class GroundMotion:
                 time_step,
             )
         up, down = frac.numerator, frac.denominator
+        check_count("time_step", self.npts * up / down, MAX_RECORD_SAMPLES, "samples in the resampled record")
         if up == down:
             return self._derived(self.time_step, self.accel, "resampled (unchanged)")
         out = resample_poly(self.accel, up, down)

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..bounds import MAX_MULTISINE_ITERATIONS, MAX_RECORD_SAMPLES, check_count
 from ..errors import ConfigError
 
 _PHASE_METHODS = ("schroeder", "min-crest", "random")
@@ -192,6 +193,13 @@ def design_multisine(
         raise ConfigError(
             "multisine.n_points", "at least 4 points and a positive rate", (n_points, sample_rate_hz)
         )
+    for key, value in (("n_points", n_points), ("n_periods", n_periods), ("n_lines", n_lines)):
+        if isinstance(value, bool) or int(value) != value:
+            raise ConfigError(f"multisine.{key}", "a whole number", value)
+    check_count(
+        "multisine.n_periods", n_points * n_periods, MAX_RECORD_SAMPLES, "samples (n_points x n_periods)"
+    )
+    check_count("multisine.iterations", iterations, MAX_MULTISINE_ITERATIONS, "clipping iterations")
     lines = _lines(f_min_hz, f_max_hz, n_lines, n_points, sample_rate_hz)
     k = np.arange(1, lines.size + 1)
     if phases == "random":

@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..bounds import MAX_MOTION_FILE_BYTES, MAX_RECORD_SAMPLES
 from ..config import quantity
 from ..errors import ConfigError, DataFileError
 from ..fileio import atomic_path, read_text
@@ -44,7 +45,8 @@ UNIFORM_TIME_RTOL = 0.01
 #: Folder of the records shipped with the package (see ``data/PROVENANCE.md``).
 MOTIONS_DIR = Path(__file__).resolve().parent.parent / "data" / "motions"
 
-_NPTS_RE = re.compile(r"NPTS\s*=\s*([0-9]+)", re.IGNORECASE)
+# NPTS is read as a number token, so that "NPTS= 5372.5" is refused rather than read as 5372.
+_NPTS_RE = re.compile(r"NPTS\s*=\s*([-+0-9.EeDd]+)", re.IGNORECASE)
 _DT_RE = re.compile(r"DT\s*=\s*([-+0-9.EeDd]+)", re.IGNORECASE)
 _NUMBER_RE = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[EeDd][-+]?[0-9]+)?")
 _SPLIT_RE = re.compile(r"[,;\s]+")
@@ -89,7 +91,7 @@ BUILTIN_MOTIONS: dict[str, BuiltinRecord] = {
 
 
 def _read_text(path: Path) -> list[str]:
-    lines = read_text(path, "a ground-motion file").splitlines()
+    lines = read_text(path, "a ground-motion file", max_bytes=MAX_MOTION_FILE_BYTES).splitlines()
     if not any(line.strip() for line in lines):
         raise DataFileError(path, "empty file")
     return lines
@@ -139,8 +141,12 @@ def _at2_header(path: Path, lines: list[str]) -> tuple[int, float]:
         dt = _parse_float(dt_text)
     except ValueError:
         raise DataFileError(path, f"line 4: expected NPTS and DT, got {header.strip()!r}") from None
-    if npts_value != int(npts_value) or npts_value < 2:
+    if not np.isfinite(npts_value) or npts_value != int(npts_value) or npts_value < 2:
         raise DataFileError(path, f"line 4: NPTS must be an integer >= 2, got {npts_text}")
+    if npts_value > MAX_RECORD_SAMPLES:
+        raise DataFileError(
+            path, f"line 4: NPTS = {npts_text} is more than {MAX_RECORD_SAMPLES} samples (docs/limits.md)"
+        )
     if not (np.isfinite(dt) and dt > 0):
         raise DataFileError(path, f"line 4: DT must be positive, got {dt_text}")
     return int(npts_value), dt

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
+from ..bounds import MAX_SPECTRUM_PERIODS, MAX_SPECTRUM_STEPS, check_count
 from ..errors import ConfigError
 from ..units import G0, TWO_PI
 
@@ -261,6 +262,13 @@ def response_spectrum(accel, time_step: float, periods=None, damping: float = 0.
     Spectrum
         ``psa`` [in/s**2] (``psa_g`` [g]), ``sd`` [in], ``sv`` [in/s].
 
+    Raises
+    ------
+    ConfigError
+        Bad samples, interval, damping or periods; more than
+        :data:`~impedance_mil.bounds.MAX_SPECTRUM_PERIODS` periods or
+        :data:`~impedance_mil.bounds.MAX_SPECTRUM_STEPS` periods x samples.
+
     Examples
     --------
     >>> from impedance_mil.signals import builtin_motion, response_spectrum
@@ -270,11 +278,35 @@ def response_spectrum(accel, time_step: float, periods=None, damping: float = 0.
     True
     """
     a, dt, zeta = _checked_inputs(accel, time_step, damping)
+    if periods is not None and hasattr(periods, "__len__"):
+        check_count("periods", len(periods), MAX_SPECTRUM_PERIODS, "periods")
     per = np.array(DEFAULT_PERIODS if periods is None else periods, dtype=float).ravel()
     if per.size == 0 or not np.all(np.isfinite(per)) or np.any(per <= 0):
         raise ConfigError("periods", "one or more positive periods in s", periods)
+    check_count("periods", per.size, MAX_SPECTRUM_PERIODS, "periods")
+    check_count("periods", per.size * a.size, MAX_SPECTRUM_STEPS, "oscillator steps (periods x samples)")
     omegas = TWO_PI / per
     a_coef, b_coef = _coefficients(omegas, zeta, dt)
     sd = _peak_responses(a, a_coef, b_coef)
     per.setflags(write=False)
     return Spectrum(per, omegas**2 * sd, sd, omegas * sd, zeta)
+
+
+def log_periods(low: float, high: float, count: int) -> np.ndarray:
+    """``count`` log-spaced periods from ``low`` to ``high`` [s], refused before allocating too many.
+
+    Raises
+    ------
+    ConfigError
+        ``0 < low < high`` does not hold, fewer than 2 periods, or more than
+        :data:`~impedance_mil.bounds.MAX_SPECTRUM_PERIODS`.
+
+    Examples
+    --------
+    >>> log_periods(0.01, 10.0, 4).round(3).tolist()
+    [0.01, 0.1, 1.0, 10.0]
+    """
+    check_count("--periods", count, MAX_SPECTRUM_PERIODS, "periods")
+    if not (0 < low < high < math.inf and count >= 2):
+        raise ConfigError("--periods", "log:MIN:MAX:N with 0 < MIN < MAX and N >= 2", (low, high, count))
+    return np.logspace(np.log10(low), np.log10(high), int(count))

@@ -1,7 +1,8 @@
 """Build specimens from configuration tables (with units) and from their ``to_dict`` form.
 
 Configuration (TOML ``[specimen]`` table or ``--set specimen.key=value``), a
-bare number meaning the report's unit::
+bare number meaning the report's unit; ``type`` is required, so that an empty
+file is refused rather than read as the report's vessel::
 
     [specimen]
     type = "vessel"            # "vessel", "rigid_mass" or "shear_building"
@@ -47,7 +48,7 @@ VESSEL_FIELDS: dict[str, Field] = {
     "water_unit_weight": Field(
         "force_pound / inch**3", default=WATER_UNIT_WEIGHT, help="unit weight of the liquid"
     ),
-    "n_convective_modes": Field("dimensionless", default=3.0, help="sloshing modes kept"),
+    "n_convective_modes": Field("dimensionless", default=3.0, help="sloshing modes kept", integer=True),
     "convective_damping": Field("dimensionless", "fraction", default=0.005, help="sloshing damping"),
     "impulsive_damping": Field("dimensionless", "fraction", default=0.02, help="impulsive damping"),
     "flexible_impulsive_fraction": Field(
@@ -75,7 +76,7 @@ _RIGID_FIELDS = {"weight": Field("force_pound", help="weight of the rigid specim
 def _vessel(cfg: Mapping[str, Any], where: str) -> FluidVessel:
     values = parse_fields(VESSEL_FIELDS, cfg, where=where)
     kwargs = {_VESSEL_ARGS.get(k, k): v for k, v in values.items()}
-    kwargs["n_convective_modes"] = int(round(kwargs["n_convective_modes"]))
+    kwargs["n_convective_modes"] = int(kwargs["n_convective_modes"])  # a whole number (Field.integer)
     kwargs["impulsive_frequency_hz"] = kwargs["impulsive_frequency_hz"] or None
     return FluidVessel(**kwargs)
 
@@ -114,10 +115,15 @@ def specimen_from_config(cfg: Mapping[str, Any], *, where: str = "specimen.") ->
     Raises
     ------
     ConfigError
-        Unknown type or key, or an invalid value.
+        A missing or unknown type (an empty table is not the report's vessel),
+        an unknown key, or an invalid value.
     """
     rest = {k: v for k, v in cfg.items() if k != "type"}
-    kind = cfg.get("type", "vessel")
+    if "type" not in cfg:
+        raise ConfigError(
+            f"{where}type", "the specimen type, one of vessel, rigid_mass, shear_building (required)"
+        )
+    kind = cfg["type"]
     if kind == "vessel":
         return _vessel(rest, where)
     if kind == "rigid_mass":

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from ..bounds import MAX_RECORD_SAMPLES, check_count
 from ..errors import ConfigError
 from .base import VirtualSystem, VSResponse
 
@@ -36,6 +37,12 @@ def harmonic_ground_motion(
     -------
     ndarray
         a_g per sample [in/s**2].
+
+    Raises
+    ------
+    ConfigError
+        A non-positive or non-finite argument, or more than
+        :data:`~impedance_mil.bounds.MAX_RECORD_SAMPLES` samples.
     """
     for key, value in (("amplitude", amplitude), ("frequency", frequency_hz), ("cycles", cycles), ("dt", dt)):
         if not (math.isfinite(value) and value > 0):
@@ -43,6 +50,9 @@ def harmonic_ground_motion(
     if not (math.isfinite(ramp_cycles) and ramp_cycles >= 0):
         raise ConfigError("ramp_cycles", "a non-negative value", ramp_cycles)
     period = 1.0 / frequency_hz
+    check_count(
+        "cycles", (cycles + ramp_cycles) * period / dt, MAX_RECORD_SAMPLES, "samples (cycles x period / dt)"
+    )
     n = int(round((cycles + ramp_cycles) * period / dt))
     t = np.arange(n) * dt
     ramp = np.ones(n)

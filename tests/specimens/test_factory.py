@@ -23,7 +23,7 @@ def test_vessel_from_config_with_units():
     assert spec.water_depth_in == pytest.approx(36.0, rel=1e-12)  # 0.9144 m = 36 in exactly
     assert spec.dry_weight_lbf == pytest.approx(1200.0, rel=1e-12)
     assert spec.flexible_impulsive_mode().frequency_hz == pytest.approx(80.0)
-    default = specimen_from_config({})
+    default = specimen_from_config({"type": "vessel"})
     assert default == FluidVessel.report_default()
 
 

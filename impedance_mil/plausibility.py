@@ -1,0 +1,280 @@
+"""Physical plausibility of parameter sets: impossible values are errors, odd ones warnings.
+
+A unit check (:mod:`impedance_mil.config`) makes sure a value has the right
+dimension and sign; this module asks whether it could belong to a real
+servo-hydraulic shake table at all.  Every rule lives here, with its reason,
+and ``docs/limits.md`` lists them with their values.
+
+Two kinds of bound per key, both in internal units (:mod:`impedance_mil.units`):
+
+* **error** bounds: outside them the value is impossible for a hydraulic
+  shake table (a moving mass of 1e308 lbf*s**2/in, a model constant d of
+  1e-300), or the model's arithmetic loses meaning.  A
+  :class:`~impedance_mil.errors.ConfigError` names the key.
+* **warning** bounds: outside them the value is possible but odd, typically a
+  unit slip (100 times the report's value or more).  A
+  :class:`PlausibilityWarning` names the key; the work goes on.
+
+Cross-key rules of a table: the return pressure is below the supply
+pressure; the loop time is shorter than half the oil-column period (the
+controller must sample the mode it damps, f_oil below the Nyquist
+frequency); a loop time longer than the shortest valve time constant is a
+warning.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import ConfigError
+from .units import TWO_PI
+
+
+class PlausibilityWarning(UserWarning):
+    """A parameter is possible but odd (e.g. 100 times the report's value); the message names it."""
+
+
+@dataclass(frozen=True)
+class Bound:
+    """Broad plausibility bounds of one key, in its internal unit.
+
+    Parameters
+    ----------
+    unit : str
+        Internal unit, for messages.
+    error_low, error_high : float or None
+        Values below ``error_low`` or above ``error_high`` are impossible (None: no bound).
+    warn_low, warn_high : float or None
+        Values outside are odd but possible (None: no bound).
+    reason : str
+        Why the bounds are where they are (shown in messages and ``docs/limits.md``).
+    """
+
+    unit: str
+    error_low: float | None
+    warn_low: float | None
+    warn_high: float | None
+    error_high: float | None
+    reason: str
+
+
+#: Bounds of the table parameters (report Table 4.1 values in the reasons).
+TABLE_BOUNDS: dict[str, Bound] = {
+    "Ke": Bound(
+        "V/in", 5e-6, 0.05, 500.0, 5e6, "report 5 V/in; gains more than 1e6 times off are no servo loop"
+    ),
+    "Kp": Bound("V/psi", None, None, 0.1, 1e3, "report 0.001 V/psi; 1e6 times more is no servo loop"),
+    "Kv": Bound(
+        "mA/V", 3e-6, 0.03, 300.0, 3e6, "report 3 mA/V; gains more than 1e6 times off are no servo loop"
+    ),
+    "loop_time": Bound(
+        "s", None, None, 0.01, 1.0, "report 500 us; controllers run at 100 Hz to 100 kHz, not at 1 Hz"
+    ),
+    "piston_area": Bound("in^2", 1e-4, 0.1, 1e3, 1e5, "report 2.1 in^2; 1e5 in^2 is a piston of 30 ft"),
+    "mid_stroke": Bound("in", 1e-3, 0.1, 100.0, 1e4, "report 3.2 in; 1e4 in is a stroke of 800 ft"),
+    "mass": Bound(
+        "lbf*s^2/in",
+        1e-5,
+        0.01,
+        1e4,
+        1e7,
+        "report 4.14 (1600 lb); the largest tables carry about 2e6 lb (5e3), 1e7 is 4e9 lb",
+    ),
+    "d": Bound(
+        "psi/(s*mA)",
+        0.1,
+        1e3,
+        1e7,
+        1e11,
+        "report 1e5; d = 0.1 needs hours to build the supply pressure, 1e11 is no oil",
+    ),
+    "valve_poles_hz": Bound(
+        "Hz", 1e-3, 1.0, 2e3, 1e6, "report 70 and 110 Hz; servovalves respond at 1-1000 Hz"
+    ),
+    "zeta_oil": Bound("-", None, None, 0.5, None, "report 0.09; oil columns are lightly damped"),
+    "f_oil_hz": Bound("Hz", 1e-2, 1.0, 500.0, 1e5, "report 27 Hz; oil columns of tables sit at 2-300 Hz"),
+    "supply_pressure": Bound(
+        "psi",
+        1.0,
+        500.0,
+        1e4,
+        1e5,
+        "report 3000 psi; hydraulic systems run at 1000-5000 psi, steel yields near 1e5",
+    ),
+    "return_pressure": Bound("psi", None, None, None, 1e5, "report 0 psi; below the supply pressure"),
+    "rated_flow": Bound(
+        "in^3/s", 1e-4, 0.5, 1e4, 1e7, "report 57.75 in^3/s (15 gpm); 1e4 in^3/s is 2600 gpm"
+    ),
+    "rated_pressure_drop": Bound(
+        "psi", 1.0, 100.0, 1e4, 1e5, "report 1000 psi (catalogue rating); 1e5 psi is no hydraulic system"
+    ),
+    "rated_current": Bound("mA", 1e-3, 1.0, 500.0, 1e5, "report 25 mA; servovalves take 10-200 mA"),
+    "valve_command_limit": Bound("V", 1e-3, 1.0, 100.0, 1e4, "report 10 V; analog commands are 10 V"),
+}
+
+
+def _fmt(value: float) -> str:
+    return f"{value:.6g}"
+
+
+def check_value(key: str, value: float, bound: Bound) -> str | None:
+    """Check one value against its bounds.
+
+    Parameters
+    ----------
+    key : str
+        Name of the key, for messages.
+    value : float
+        The value, in the bound's internal unit.
+    bound : Bound
+
+    Returns
+    -------
+    str or None
+        A warning text naming the key when the value is odd, else None.
+
+    Raises
+    ------
+    ConfigError
+        The value is not finite or is outside the error bounds.
+
+    Examples
+    --------
+    >>> check_value("mass", 4.14, TABLE_BOUNDS["mass"]) is None
+    True
+    >>> check_value("mass", 1e308, TABLE_BOUNDS["mass"])
+    Traceback (most recent call last):
+    ...
+    impedance_mil.errors.ConfigError: mass: expected a plausible value, at most 1e+07 lbf*s^2/in (report 4.14 (1600 lb); the largest tables carry about 2e6 lb (5e3), 1e7 is 4e9 lb), got 1e+308
+    """
+    if not math.isfinite(value):
+        raise ConfigError(key, "a finite number", value)
+    if bound.error_low is not None and value < bound.error_low:
+        raise ConfigError(
+            key, f"a plausible value, at least {_fmt(bound.error_low)} {bound.unit} ({bound.reason})", value
+        )
+    if bound.error_high is not None and value > bound.error_high:
+        raise ConfigError(
+            key, f"a plausible value, at most {_fmt(bound.error_high)} {bound.unit} ({bound.reason})", value
+        )
+    if bound.warn_low is not None and value < bound.warn_low:
+        return f"{key} = {_fmt(value)} {bound.unit} is unusually small (below {_fmt(bound.warn_low)}; {bound.reason})"
+    if bound.warn_high is not None and value > bound.warn_high:
+        return f"{key} = {_fmt(value)} {bound.unit} is unusually large (above {_fmt(bound.warn_high)}; {bound.reason})"
+    return None
+
+
+def check_bounds(values: Mapping[str, Any], bounds: Mapping[str, Bound], *, where: str = "") -> list[str]:
+    """Check every value that has a bound (a list or tuple value: each element).
+
+    Returns
+    -------
+    list of str
+        The warnings (odd values), each naming its key.
+
+    Raises
+    ------
+    ConfigError
+        An impossible value (the key is named, with ``where`` as prefix).
+    """
+    out = []
+    for key, bound in bounds.items():
+        if key not in values:
+            continue
+        raw = values[key]
+        for value in raw if isinstance(raw, (list, tuple)) else (raw,):
+            text = check_value(f"{where}{key}", float(value), bound)
+            if text is not None:
+                out.append(text)
+    return out
+
+
+def table_warnings(values: Mapping[str, Any], *, where: str = "") -> list[str]:
+    """Plausibility of a table's parameters (:data:`TABLE_BOUNDS` and the cross-key rules).
+
+    Parameters
+    ----------
+    values : mapping
+        The table's parameters in internal units (``TableParameters`` fields;
+        missing keys are skipped).
+    where : str
+        Prefix of the keys in messages (e.g. a file name).
+
+    Returns
+    -------
+    list of str
+        Warnings, each naming its key (odd but possible values).
+
+    Raises
+    ------
+    ConfigError
+        An impossible value or combination, naming the key.
+
+    Examples
+    --------
+    >>> table_warnings({"supply_pressure": 3000.0, "return_pressure": 3000.0})
+    Traceback (most recent call last):
+    ...
+    impedance_mil.errors.ConfigError: return_pressure: expected a pressure below the supply pressure 3000 psi (oil flows from supply to return), got 3000.0
+    """
+    out = check_bounds(values, TABLE_BOUNDS, where=where)
+    supply, ret = values.get("supply_pressure"), values.get("return_pressure")
+    if supply is not None and ret is not None and not ret < supply:
+        raise ConfigError(
+            f"{where}return_pressure",
+            f"a pressure below the supply pressure {_fmt(supply)} psi (oil flows from supply to return)",
+            ret,
+        )
+    loop, f_oil = values.get("loop_time"), values.get("f_oil_hz")
+    if loop is not None and f_oil is not None and loop > 0 and not loop < 0.5 / f_oil:
+        raise ConfigError(
+            f"{where}loop_time",
+            f"a loop time below half the oil-column period, {_fmt(0.5 / f_oil)} s (f_oil = {_fmt(f_oil)} Hz "
+            "must be below the Nyquist frequency of the controller)",
+            loop,
+        )
+    poles = values.get("valve_poles_hz")
+    if loop is not None and poles and loop > 0:
+        shortest = 1.0 / (TWO_PI * max(float(p) for p in poles))
+        if loop > shortest:
+            out.append(
+                f"{where}loop_time = {_fmt(loop)} s is longer than the shortest valve time constant "
+                f"{_fmt(shortest)} s (valve pole {_fmt(max(poles))} Hz): the controller cannot follow the valve"
+            )
+    return out
+
+
+def warn_all(texts: list[str], stacklevel: int = 3) -> None:
+    """Issue each text as a :class:`PlausibilityWarning`."""
+    for text in texts:
+        warnings.warn(text, PlausibilityWarning, stacklevel=stacklevel)
+
+
+def check_table(values: Mapping[str, Any], *, where: str = "") -> None:
+    """Refuse an impossible table and warn about odd values (:func:`table_warnings`).
+
+    Raises
+    ------
+    ConfigError
+        An impossible value or combination, naming the key.
+    """
+    warn_all(table_warnings(values, where=where))
+
+
+def one_line_warning(
+    message: Any, category: type, filename: str, lineno: int, line: str | None = None
+) -> str:
+    """Format a warning of this package as one line, ``imil: warning: MESSAGE`` (others as Python does).
+
+    For :data:`warnings.formatwarning` in a command-line program.
+    """
+    if category.__module__.split(".")[0] == __name__.split(".")[0]:
+        return f"imil: warning: {message}\n"
+    return _DEFAULT_FORMAT(message, category, filename, lineno, line)
+
+
+_DEFAULT_FORMAT = warnings.formatwarning
