@@ -75,14 +75,14 @@ TABLE_BOUNDS: dict[str, Bound] = {
         "s", None, None, 0.01, 1.0, "report 500 us; controllers run at 100 Hz to 100 kHz, not at 1 Hz"
     ),
     "piston_area": Bound("in^2", 1e-4, 0.1, 1e3, 1e5, "report 2.1 in^2; 1e5 in^2 is a piston of 30 ft"),
-    "mid_stroke": Bound("in", 1e-3, 0.1, 100.0, 1e4, "report 3.2 in; 1e4 in is a stroke of 800 ft"),
+    "mid_stroke": Bound("in", 1e-3, 0.1, 100.0, 1e4, "report 3.2 in; 1e4 in is a half stroke of 830 ft"),
     "mass": Bound(
         "lbf*s^2/in",
         1e-5,
         0.01,
         1e4,
         1e7,
-        "report 4.14 (1600 lb); the largest tables carry about 2e6 lb (5e3), 1e7 is 4e9 lb",
+        "report 4.14 (1600 lb); the largest tables carry about 2.6e6 lb (6.9e3), 1e7 is 3.9e9 lb",
     ),
     "d": Bound(
         "psi/(s*mA)",
@@ -90,7 +90,7 @@ TABLE_BOUNDS: dict[str, Bound] = {
         1e3,
         1e7,
         1e11,
-        "report 1e5; d = 0.1 needs hours to build the supply pressure, 1e11 is no oil",
+        "report 1e5; at 25 mA, d = 0.1 takes 20 min to build 3000 psi and 1e11 takes a nanosecond",
     ),
     "valve_poles_hz": Bound(
         "Hz", 1e-3, 1.0, 2e3, 1e6, "report 70 and 110 Hz; servovalves respond at 1-1000 Hz"
@@ -149,7 +149,7 @@ def check_value(key: str, value: float, bound: Bound) -> str | None:
     >>> check_value("mass", 1e308, TABLE_BOUNDS["mass"])
     Traceback (most recent call last):
     ...
-    impedance_mil.errors.ConfigError: mass: expected a plausible value, at most 1e+07 lbf*s^2/in (report 4.14 (1600 lb); the largest tables carry about 2e6 lb (5e3), 1e7 is 4e9 lb), got 1e+308
+    impedance_mil.errors.ConfigError: mass: expected a plausible value, at most 1e+07 lbf*s^2/in (report 4.14 (1600 lb); the largest tables carry about 2.6e6 lb (6.9e3), 1e7 is 3.9e9 lb), got 1e+308
     """
     if not math.isfinite(value):
         raise ConfigError(key, "a finite number", value)

@@ -64,3 +64,78 @@ def test_read_toml_errors(tmp_path):
     bad.write_text("mass = = 3")
     with pytest.raises(DataFileError, match="not valid TOML"):
         read_toml(bad)
+
+
+# ---------------------------------------------------------------- bounded parsing (issue 18, finding 5)
+def test_toml_nested_3000_deep_is_refused_before_parsing(tmp_path):
+    # The audit's case: Python's TOML parser recursed 3000 times and raised RecursionError.
+    deep = tmp_path / "deep.toml"
+    deep.write_text("[table]\nKe = " + "[" * 3000 + "]" * 3000 + "\n")
+    with pytest.raises(DataFileError, match=r"deep\.toml: line 2: arrays or tables nested more than 32 deep"):
+        read_toml(deep)
+    inline = tmp_path / "inline.toml"
+    inline.write_text("a = " + "{b = " * 40 + "1" + "}" * 40 + "\n")
+    with pytest.raises(DataFileError, match="nested more than 32 deep"):
+        read_toml(inline)
+
+
+def test_toml_depth_through_dotted_keys_is_capped_after_parsing(tmp_path):
+    dotted = tmp_path / "dotted.toml"
+    dotted.write_text("[" + ".".join(["a"] * 40) + "]\nx = 1\n")
+    with pytest.raises(DataFileError, match="tables nested more than 32 deep"):
+        read_toml(dotted)
+    ok = tmp_path / "ok.toml"
+    ok.write_text("[" + ".".join(["a"] * 20) + "]\nx = [[1, 2], [3]]\n")
+    assert read_toml(ok)["a"]["a"]["a"]  # 20 levels is fine
+
+
+def test_brackets_and_digits_inside_strings_and_comments_do_not_count(tmp_path):
+    text = (
+        'a = "' + "[" * 100 + '"\n'
+        "b = '" + "{" * 100 + "'\n"
+        'c = """\n' + "[" * 100 + "\n" + "1" * 300 + '\n"""\n'
+        "# " + "[" * 100 + " " + "9" * 300 + "\n"
+        'd = "' + "7" * 150 + ' is text"\n'
+    )
+    path = tmp_path / "strings.toml"
+    path.write_text(text)
+    data = read_toml(path)
+    assert data["a"] == "[" * 100 and data["d"].startswith("7" * 150)
+
+
+def test_overlong_numbers_are_refused_with_one_line(tmp_path):
+    # 400 digits: an int too large for a double (OverflowError in the audit); 200 000 digits:
+    # Python's int conversion limit (ValueError) after seconds of parsing.
+    for digits in (400, 200_000):
+        path = tmp_path / f"n{digits}.toml"
+        path.write_text("[table]\nKe = " + "1" * digits + "\n")
+        with pytest.raises(DataFileError, match=r"line 2: a number of more than 100 digits"):
+            read_toml(path)
+    # A Python int beyond a double (from code, not TOML) is refused too.
+    with pytest.raises(ConfigError, match="^Ke: expected a finite number"):
+        quantity("Ke", 10**400, "volt / inch")
+
+
+def test_oversized_toml_files_are_refused_before_reading(tmp_path):
+    # The audit's 2-million-digit number: the file is refused by size at once.
+    path = tmp_path / "big.toml"
+    path.write_text("[table]\nKe = " + "1" * 2_000_000 + "\n")
+    with pytest.raises(DataFileError, match=r"big\.toml: 2000014 bytes, larger than a TOML file may be"):
+        read_toml(path)
+
+
+def test_overlong_quantity_strings_are_refused():
+    with pytest.raises(ConfigError, match=r"^Ke: expected a value of at most 200 characters, got '1111"):
+        quantity("Ke", "1" * 1000 + " V/in", "volt / inch")
+    with pytest.raises(ConfigError, match=r"^Ke: expected a number of at most 100 digits"):
+        quantity("Ke", "1" * 150 + " V/in", "volt / inch")
+    # The echoed value is cut, so the error stays one short line.
+    with pytest.raises(ConfigError) as info:
+        quantity("Ke", "2" * 5000, "volt / inch")
+    assert len(str(info.value)) < 200
+
+
+def test_integer_fields_refuse_fractions():
+    assert parse_fields({"n": Field("dimensionless", integer=True)}, {"n": 3}) == {"n": 3.0}
+    with pytest.raises(ConfigError, match="^n: expected a whole number, got 2.5"):
+        parse_fields({"n": Field("dimensionless", integer=True)}, {"n": 2.5})

@@ -142,7 +142,7 @@ def execute_run(
     start = time.perf_counter()
     store = CampaignStore(root)
     outcome: dict[str, Any] = {"status": "ok", "metrics": {}, "error": "", "hdf5": "", "sha256": ""}
-    identity = {
+    identity: dict[str, Any] = {
         "run_id": run_id,
         "kind": kind_name,
         "studies": tuple(studies),
@@ -275,7 +275,7 @@ def run_campaign(
         skipped = tuple(run.run_id for run in spec.runs if store.is_done(run.run_id))
         todo = [run for run in spec.runs if run.run_id not in set(skipped)]
         own = executor is None
-        pool = make_executor() if own else executor
+        pool: RunExecutor = make_executor() if executor is None else executor
         try:
             executed = _execute(store, spec, todo, pool, on_progress)
         finally:

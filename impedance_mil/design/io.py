@@ -30,9 +30,11 @@ import os
 from pathlib import Path
 from typing import Any
 
+from ..config import quantity
 from ..errors import ConfigError, DataFileError
 from ..fileio import atomic_write_text, json_safe, read_text
-from ..plant.parameters import TableParameters
+from ..plant.parameters import FIELDS as TABLE_FIELDS
+from ..plausibility import check_table
 from ..systems import TransferFunction
 from .constraints import ConstraintResult
 from .controller import ControllerDesign, FilterSpec
@@ -111,7 +113,10 @@ def load_design(path: str | os.PathLike) -> ControllerDesign:
     ------
     DataFileError
         Missing or unreadable file, not JSON, wrong format or version, a
-        missing field, or a malformed transfer function.
+        missing field, a malformed transfer function (a coefficient that is
+        not a finite number, e.g. a boolean), or table parameters that are
+        not numbers, out of range or physically impossible
+        (:mod:`impedance_mil.plausibility`).
     """
     p = Path(path)
     text = read_text(p, "a design file")
@@ -143,12 +148,7 @@ def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> Control
         raise DataFileError(where, f"form {doc['form']!r} is not one of {', '.join(FORMS)}")
     for key in ("H_uz", "H_uw", "H_ufh"):
         _check_coefficients(doc[key], key, where)
-    if not isinstance(doc["table"], dict):
-        raise DataFileError(where, "table: expected the table parameters (TableParameters.to_dict())")
-    try:
-        TableParameters.from_mapping(doc["table"], where="table.")
-    except ConfigError as exc:
-        raise DataFileError(where, str(exc)) from None
+    _check_table(doc["table"], where)
     try:
         H = {
             k: (None if doc[k] is None else TransferFunction.from_dict(doc[k]))
@@ -216,3 +216,26 @@ def _check_coefficients(tf: Any, key: str, where: str | os.PathLike) -> None:
                 finite = False
             if not finite:
                 raise DataFileError(where, f"{key}.{part}: expected finite numbers, got {str(value)[:40]}")
+
+
+def _check_table(table: Any, where: str | os.PathLike) -> None:
+    """Refuse table parameters that are not numbers, out of range or implausible (present keys only).
+
+    A design file's table is ``TableParameters.to_dict()`` in internal units;
+    a design built from closed forms may carry only some of the keys.
+    """
+    if table is None:
+        return
+    if not isinstance(table, dict):
+        raise DataFileError(where, "table: expected the table parameters (TableParameters.to_dict())")
+    try:
+        for key, value in table.items():
+            spec = TABLE_FIELDS.get(key)
+            for item in value if spec is not None and spec.count > 1 and isinstance(value, list) else [value]:
+                if spec is not None and (isinstance(item, bool) or not isinstance(item, (int, float))):
+                    raise ConfigError(f"table.{key}", f"a number in {spec.unit}", item)
+                if spec is not None:
+                    quantity(f"table.{key}", item, spec.unit, spec.check)
+        check_table(table, where="table.")
+    except ConfigError as exc:
+        raise DataFileError(where, str(exc)) from None

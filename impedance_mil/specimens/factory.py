@@ -1,8 +1,8 @@
 """Build specimens from configuration tables (with units) and from their ``to_dict`` form.
 
 Configuration (TOML ``[specimen]`` table or ``--set specimen.key=value``), a
-bare number meaning the report's unit; ``type`` is required, so that an empty
-file is refused rather than read as the report's vessel::
+bare number meaning the report's unit; ``type`` defaults to ``"vessel"``, but
+an empty table is refused rather than read as the report's vessel::
 
     [specimen]
     type = "vessel"            # "vessel", "rigid_mass" or "shear_building"
@@ -115,15 +115,15 @@ def specimen_from_config(cfg: Mapping[str, Any], *, where: str = "specimen.") ->
     Raises
     ------
     ConfigError
-        A missing or unknown type (an empty table is not the report's vessel),
-        an unknown key, or an invalid value.
+        An empty table (it is not the report's vessel), an unknown type or
+        key, or an invalid value.
     """
     rest = {k: v for k, v in cfg.items() if k != "type"}
-    if "type" not in cfg:
+    if not cfg:
         raise ConfigError(
-            f"{where}type", "the specimen type, one of vessel, rigid_mass, shear_building (required)"
+            f"{where}type", "a specimen (type vessel, rigid_mass or shear_building), not an empty table"
         )
-    kind = cfg["type"]
+    kind = cfg.get("type", "vessel")
     if kind == "vessel":
         return _vessel(rest, where)
     if kind == "rigid_mass":

@@ -16,6 +16,7 @@ import pytest
 
 from impedance_mil.campaign import InlineExecutor, LocalExecutor, load_campaign, load_summary, run_campaign
 from impedance_mil.design.io import load_design
+from impedance_mil.fileio import stale_temporaries
 
 HEAD = '[campaign]\nname = "t"\nkind = "selftest"\n'
 
@@ -211,6 +212,7 @@ def test_killed_campaign_resumes_with_only_the_remaining_runs(make_campaign, tmp
     result = run_campaign(spec, out, InlineExecutor())
     assert set(result.skipped) == done_before
     assert set(result.executed) == {r.run_id for r in spec.runs} - done_before
+    assert stale_temporaries(out) == []  # what the kill left is removed when the next session starts
 
 
 def test_summary_csv_and_parquet_hold_one_row_per_run(make_campaign, tmp_path):

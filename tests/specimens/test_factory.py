@@ -25,6 +25,7 @@ def test_vessel_from_config_with_units():
     assert spec.flexible_impulsive_mode().frequency_hz == pytest.approx(80.0)
     default = specimen_from_config({"type": "vessel"})
     assert default == FluidVessel.report_default()
+    assert specimen_from_config({"water_depth": 36.0}) == default  # type defaults to vessel
 
 
 def test_rigid_mass_and_shear_building_from_config():
