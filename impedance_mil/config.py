@@ -69,25 +69,12 @@ MAX_TOML_BYTES = 1 << 20
 #: Deepest nesting of tables and arrays in a TOML file; configurations use 4 or 5 levels.
 MAX_TOML_DEPTH = 32
 
-_LONG_DIGITS = f"[0-9][0-9_]{{{MAX_NUMBER_DIGITS},}}"
+_LONG_DIGITS = f"(?<![0-9_])[0-9][0-9_]{{{MAX_NUMBER_DIGITS},}}"  # tried only where a run starts
 _LONG_DIGITS_RE = re.compile(_LONG_DIGITS)
 
-#: The tokens of a TOML text that the checks before parsing look at: strings and
-#: comments (skipped whole), brackets (nesting) and long runs of digits (number size).
-_TOML_SCAN_RE = re.compile(
-    "|".join(
-        (
-            r'"""(?:\\.|[^\\])*?"""',  # multi-line basic string
-            r"'''.*?'''",  # multi-line literal string
-            r'"(?:\\.|[^"\\\n])*"',  # basic string
-            r"'[^'\n]*'",  # literal string
-            r"#[^\n]*",  # comment
-            r"[\[\]{}]",
-            _LONG_DIGITS,
-        )
-    ),
-    re.DOTALL,
-)
+#: What the checks before parsing look at in a TOML text: the start of a string or a
+#: comment (skipped whole), a bracket (nesting) and a long run of digits (number size).
+_TOML_SCAN_RE = re.compile(r"[\"'#\[\]{}]|" + _LONG_DIGITS)
 
 #: Longest raw value echoed in an error message [characters].
 _SHOWN_CHARS = 60
@@ -312,21 +299,70 @@ def read_toml(path: str | Path) -> dict[str, Any]:
 
 
 def _check_toml_text(path: str | Path, text: str) -> None:
-    depth = 0
-    for match in _TOML_SCAN_RE.finditer(text):
-        token = match.group()
+    """Nesting depth and number length of a TOML text, in one linear pass (strings and comments skipped).
+
+    An unclosed string ends the pass: the parser then reports the file as invalid.
+    """
+    depth, pos = 0, 0
+    while (match := _TOML_SCAN_RE.search(text, pos)) is not None:
+        token, start = match.group(), match.start()
+        pos = match.end()
         if token in ("[", "{"):
             depth += 1
             if depth > MAX_TOML_DEPTH:
-                line = text.count("\n", 0, match.start()) + 1
                 raise DataFileError(
-                    path, f"line {line}: arrays or tables nested more than {MAX_TOML_DEPTH} deep"
+                    path,
+                    f"line {_line(text, start)}: arrays or tables nested more than {MAX_TOML_DEPTH} deep",
                 )
         elif token in ("]", "}"):
             depth = max(depth - 1, 0)
-        elif token[0].isdigit():
-            line = text.count("\n", 0, match.start()) + 1
-            raise DataFileError(path, f"line {line}: a number of more than {MAX_NUMBER_DIGITS} digits")
+        elif token == "#":
+            pos = _after(text, "\n", start)
+        elif token in ('"', "'"):
+            pos = _string_end(text, start)
+        else:
+            raise DataFileError(
+                path, f"line {_line(text, start)}: a number of more than {MAX_NUMBER_DIGITS} digits"
+            )
+        if pos < 0:
+            return
+
+
+def _line(text: str, index: int) -> int:
+    return text.count("\n", 0, index) + 1
+
+
+def _after(text: str, needle: str, start: int) -> int:
+    """Index just past the next ``needle`` at or after ``start``, or -1."""
+    found = text.find(needle, start)
+    return -1 if found < 0 else found + len(needle)
+
+
+def _string_end(text: str, start: int) -> int:
+    """Index just past the TOML string opening at ``start``, or -1 when it is not closed.
+
+    Basic strings (``"``) honour backslash escapes; literal strings (``'``) have none.
+    A one-line string that reaches the end of its line is unclosed: scanning goes on
+    on the next line (the parser will refuse the file).
+    """
+    quote = text[start]
+    triple = text.startswith(quote * 3, start)
+    closing = quote * 3 if triple else quote
+    pos = start + len(closing)
+    line_end = -1 if triple else text.find("\n", pos)
+    while True:
+        end = text.find(closing, pos)
+        if end < 0 or 0 <= line_end < end:
+            return -1 if triple or line_end < 0 else line_end + 1
+        backslashes = 0
+        while quote == '"' and end - backslashes - 1 >= pos and text[end - backslashes - 1] == "\\":
+            backslashes += 1
+        if backslashes % 2 == 0:
+            end += len(closing)
+            if triple:  # one or two quotes just before the closing ones belong to the content
+                end += len(text[end : end + 2]) - len(text[end : end + 2].lstrip(quote))
+            return end
+        pos = end + 1
 
 
 def _nesting_depth(data: Any) -> int:

@@ -96,11 +96,15 @@ def test_brackets_and_digits_inside_strings_and_comments_do_not_count(tmp_path):
         'c = """\n' + "[" * 100 + "\n" + "1" * 300 + '\n"""\n'
         "# " + "[" * 100 + " " + "9" * 300 + "\n"
         'd = "' + "7" * 150 + ' is text"\n'
+        'e = "escaped \\" ' + "[" * 100 + '"\n'  # an escaped quote does not end the string
+        'f = """x""""\n'  # one quote before the closing ones is content
+        "g = [" + "'[', " * 50 + "]\n"
     )
     path = tmp_path / "strings.toml"
     path.write_text(text)
     data = read_toml(path)
     assert data["a"] == "[" * 100 and data["d"].startswith("7" * 150)
+    assert data["e"] == 'escaped " ' + "[" * 100 and data["f"] == 'x"' and data["g"] == ["["] * 50
 
 
 def test_overlong_numbers_are_refused_with_one_line(tmp_path):

@@ -10,9 +10,10 @@ written by the process that ran it, atomically and *before* its output is
 renamed into place, so no output ever exists without its record.  A run
 that fails is recorded with its reason and the campaign goes on.  On an
 interrupt (Ctrl-C, or a progress callback that raises
-:class:`KeyboardInterrupt`), runs not yet started are cancelled, runs that
-finish meanwhile are still recorded, the summary is written and the
-interrupt propagates; running the campaign again resumes it.
+:class:`KeyboardInterrupt`), runs not yet started are cancelled, runs
+already executing end (a local pool waits for them; Ctrl-C interrupts them
+too) and are recorded, the summary is written and the interrupt propagates,
+all while the folder is still locked; running the campaign again resumes it.
 """
 
 from __future__ import annotations

@@ -64,7 +64,11 @@ class RunExecutor(abc.ABC):
 
     @abc.abstractmethod
     def shutdown(self, cancel: bool = False) -> None:
-        """Release the workers; with ``cancel``, drop runs that have not started."""
+        """Release the workers; with ``cancel``, drop runs that have not started.
+
+        A local pool waits for the runs already executing (they record themselves);
+        a Dask cluster does not (see ``docs/limits.md``).
+        """
 
     def __enter__(self) -> RunExecutor:
         return self
@@ -96,6 +100,9 @@ class InlineExecutor(RunExecutor):
                     future.set_result(fn(*args))
                 except Exception as exc:  # delivered through the future, like a pool
                     future.set_exception(exc)
+                except BaseException as exc:  # an interrupt: the future is done (not left running), then stop
+                    future.set_exception(exc)
+                    raise
             yield future
 
     def shutdown(self, cancel: bool = False) -> None:
@@ -132,7 +139,10 @@ class LocalExecutor(RunExecutor):
         return cf.as_completed(list(futures))
 
     def shutdown(self, cancel: bool = False) -> None:
-        self._pool.shutdown(wait=not cancel, cancel_futures=cancel)
+        # Runs already executing are waited for even when cancelling, so that their records are
+        # written while the campaign folder is still locked (after Ctrl-C the workers, in the same
+        # process group, are interrupted too and end at once).
+        self._pool.shutdown(wait=True, cancel_futures=cancel)
 
 
 class DaskExecutor(RunExecutor):

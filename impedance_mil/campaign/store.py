@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import re
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
@@ -209,9 +210,10 @@ class CampaignStore:
         """
         if not record.hdf5:
             return ""
-        root = self.root.resolve()
-        path = (root / record.hdf5).resolve()
-        if not path.is_relative_to(root):
+        # Lexically, so that ".." and absolute paths are caught but a symlinked folder still works.
+        root = os.path.normpath(os.path.abspath(self.root))
+        path = Path(os.path.normpath(os.path.join(root, record.hdf5)))
+        if os.path.commonpath([root, path]) != root or path == Path(root):
             return f"{record.hdf5}: outside the campaign folder"
         if not path.is_file():
             return f"{record.hdf5}: missing"
