@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..bounds import MAX_RECORD_SAMPLES, check_count
 from ..report_config import report_config
 from ..signals import GroundMotion
 from ..units import G0, weight_to_mass
@@ -44,6 +45,7 @@ def harmonic_input(amplitude: float, frequency_hz: float, cycles: float, dt: flo
 def recorded_input(motion: GroundMotion, dt: float, label: str = "") -> LoopInput:
     """A recorded motion held over as many steps of at most ``dt`` [s] as fit in its sample interval."""
     substeps = max(1, math.ceil(motion.time_step / dt - 1e-9))
+    check_count("dt", motion.npts * substeps, MAX_RECORD_SAMPLES, "samples (record x steps per sample)")
     a_g = np.repeat(motion.accel, substeps)  # held over each record sample
     return LoopInput(a_g, motion.time_step / substeps, f"{motion.name or label}, {substeps} steps per sample")
 
