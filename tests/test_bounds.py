@@ -69,9 +69,7 @@ def test_vs_loops_command_refuses_1e7_cycles(imil, tmp_path):
     )
     # A recorded motion held over 1e7 steps per sample: 5.4e10 samples (400 GiB).
     out = imil("vs", "loops", "SD2", "--motion", "elcentro", "--dt", "1e-9", "-o", tmp_path / "l.png")
-    assert out.returncode == 2 and out.stderr.startswith(
-        "imil: error: dt: expected at most 4194304 samples"
-    )
+    assert out.returncode == 2 and out.stderr.startswith("imil: error: dt: expected at most 4194304 samples")
     assert not list(tmp_path.iterdir())
 
 
