@@ -14,7 +14,6 @@ import numpy as np
 import pytest
 
 from impedance_mil.campaign import load_campaign
-from impedance_mil.cli.runopts import specimen_choice
 from impedance_mil.design import design_controller, load_design, save_design, table_model
 from impedance_mil.design.constraints import DesignCriteria
 from impedance_mil.errors import ConfigError, DataFileError
@@ -23,13 +22,17 @@ from impedance_mil.signals import read_at2
 from impedance_mil.specimens import specimen_from_config
 
 
-def test_an_empty_specimen_file_is_not_the_report_vessel(tmp_path):
+def test_an_empty_specimen_file_is_not_the_report_vessel(imil, tmp_path):
     for text in ("", "[specimen]\n"):
         path = tmp_path / "s.toml"
         path.write_text(text)
-        with pytest.raises(ConfigError) as info:
-            specimen_choice(str(path), None, None)
-        assert info.value.key == "s.toml: specimen.type" and "not an empty table" in str(info.value)
+        out = imil("simulate", "--specimen", path, "-o", tmp_path / "run.h5")
+        assert out.returncode == 2 and len(out.stderr.strip().splitlines()) == 1
+        assert (
+            out.stderr.startswith("imil: error: s.toml: specimen.type: ")
+            and "not an empty table" in out.stderr
+        )
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # nothing written
     with pytest.raises(ConfigError, match=r"^specimen\.type: "):
         specimen_from_config({})
 
@@ -60,7 +63,9 @@ def test_a_nan_passivity_tolerance_is_refused(imil, tmp_path):
         ):
             DesignCriteria(passivity_extra_tolerance_deg=bad)
     out = imil("design", "--passivity-tol", "nan", "-o", tmp_path / "d.json")
-    assert out.returncode == 2 and out.stderr.startswith("imil: error: passivity_extra_tolerance_deg: ")
+    assert out.returncode == 2 and out.stderr.startswith(
+        "imil: error: --passivity-tol: expected a finite non-negative"
+    )
     assert not (tmp_path / "d.json").exists()
 
 
