@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import importlib.util
 import sys
+from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
@@ -31,3 +33,16 @@ def imil(capfd, monkeypatch):
         return SimpleNamespace(returncode=code, stdout=out, stderr=err)
 
     return call
+
+
+#: The repository's example of a user-defined VS type (a user's own file, not part of the package).
+TWO_STOREY_FILE = Path(__file__).resolve().parent.parent / "examples" / "vs_types" / "two_storey.py"
+
+
+@pytest.fixture(scope="session")
+def two_storey():
+    """The example user type file ``examples/vs_types/two_storey.py``, loaded as a module."""
+    spec = importlib.util.spec_from_file_location("two_storey_example", TWO_STOREY_FILE)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

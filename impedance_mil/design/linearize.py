@@ -10,8 +10,9 @@ amplitude ``D``:
 ``describing-function`` (default)
     Harmonic balance (Caughey 1960; Gelb & Vander Velde 1968).  The basemat
     displacement is prescribed, ``x = D cos(w t)``; the hysteretic variable is
-    integrated over two cycles with the compiled kernels of
-    :mod:`impedance_mil.virtual.kernels` (the model's single definition);
+    integrated over two cycles with the kernels generated from the type's
+    definition (:mod:`impedance_mil.virtual.codegen`; its hysteretic states are
+    the states other than the kinematic ones);
     the first Fourier coefficient of the isolator force ``F`` over the last
     cycle gives the complex stiffness ``N(D, w) = F_1/D``.  Its real part is
     the in-phase stiffness, its imaginary part ``E_D/(pi D**2)`` with ``E_D``
@@ -46,7 +47,9 @@ import numpy as np
 from ..errors import ConfigError
 from ..systems import TransferFunction
 from ..units import G0, TWO_PI
-from ..virtual import TEST_ARTICLE_WEIGHT, kernels
+from ..virtual.codegen import compiled
+from ..virtual.targets import TEST_ARTICLE_WEIGHT
+from ..virtual.kernels import OUT_FORCE
 
 #: Linearization methods; ``open-fh`` is the linear part with ``f_h`` open (no linearization).
 METHODS = ("describing-function", "equivalent-viscous", "open-fh")
@@ -69,33 +72,41 @@ CYCLES = 2
 
 
 @numba.njit(cache=True, nogil=True)
-def harmonic_force_cycle(kind_code, params, amplitude, omega, steps, cycles, force):
+def harmonic_force_cycle(fns, params, n, i_x, i_v, amplitude, omega, steps, cycles, out, force):
     """Isolator force over the last of ``cycles`` cycles of ``x = D cos(omega t)`` (compiled).
 
-    The hysteretic variable (state 2 for LR and FP) is integrated with RK4
-    in time, ``steps`` per cycle, from rest; ``force[k]`` [lbf] is the force
-    at ``t = k T/steps`` of the last cycle, ``T = 2 pi/omega`` [s].
-    ``amplitude`` [in], ``omega`` [rad/s].
+    ``fns = (derivative, outputs)``: the VS type's kernels (generated from its
+    definition).  The kinematic states ``i_x`` (displacement) and ``i_v``
+    (velocity) are prescribed; every other state (the hysteretic variables) is
+    integrated with RK4 in time, ``steps`` per cycle, from rest; ``force[k]``
+    [lbf] is the force at ``t = k T/steps`` of the last cycle, ``T = 2 pi/omega``
+    [s].  ``amplitude`` [in], ``omega`` [rad/s]; ``out`` is the outputs scratch.
     """
-    n = kernels.vs_n_states(kind_code)
+    derivative = fns[0]
+    outputs = fns[1]
     xs = np.zeros(n)
     d = np.zeros((4, n))
     dt = 2.0 * np.pi / omega / steps
-    h = 0.0
+    h = np.zeros(n)
     for c in range(cycles):
         for i in range(steps):
             t = (c * steps + i) * dt
             for stage in range(4):
                 ts = t + (0.0, 0.5, 0.5, 1.0)[stage] * dt
-                xs[0] = amplitude * np.cos(omega * ts)
-                xs[1] = -amplitude * omega * np.sin(omega * ts)
-                if n > 2:
-                    xs[2] = h + (0.0, 0.5, 0.5, 1.0)[stage] * dt * (d[stage - 1, 2] if stage > 0 else 0.0)
+                for j in range(n):
+                    if j != i_x and j != i_v:
+                        xs[j] = h[j] + (0.0, 0.5, 0.5, 1.0)[stage] * dt * (
+                            d[stage - 1, j] if stage > 0 else 0.0
+                        )
+                xs[i_x] = amplitude * np.cos(omega * ts)
+                xs[i_v] = -amplitude * omega * np.sin(omega * ts)
                 if stage == 0 and c == cycles - 1:
-                    force[i] = kernels.vs_force(kind_code, params, xs)
-                kernels.vs_derivative(kind_code, params, xs, 0.0, 0.0, d[stage])
-            if n > 2:
-                h += dt * (d[0, 2] + 2.0 * d[1, 2] + 2.0 * d[2, 2] + d[3, 2]) / 6.0
+                    outputs(params, xs, 0.0, 0.0, out)
+                    force[i] = out[OUT_FORCE]
+                derivative(params, xs, 0.0, 0.0, d[stage])
+            for j in range(n):
+                if j != i_x and j != i_v:
+                    h[j] += dt * (d[0, j] + 2.0 * d[1, j] + 2.0 * d[2, j] + d[3, j]) / 6.0
 
 
 @dataclass(frozen=True)
@@ -129,8 +140,8 @@ def harmonic_cycle(vs, amplitude_in: float, frequency_hz: float) -> HarmonicCycl
 
     Parameters
     ----------
-    vs : VirtualSystem
-        A built-in kind (SD, LR, FP) with compiled kernels.
+    vs : DefinedVS
+        A VS of an isolator type (its definition names the kinematic states).
     amplitude_in : float
         Displacement amplitude D [in], > 0.
     frequency_hz : float
@@ -140,12 +151,28 @@ def harmonic_cycle(vs, amplitude_in: float, frequency_hz: float) -> HarmonicCycl
         raise ConfigError("amplitude", "a positive displacement amplitude in in", amplitude_in)
     if not (np.isfinite(frequency_hz) and frequency_hz > 0):
         raise ConfigError("frequency", "a positive frequency in Hz", frequency_hz)
-    u_y = float(getattr(vs, "u_y", amplitude_in))
+    d = vs.definition
+    if d.kinematics is None:
+        raise ConfigError(
+            "vs", f"an isolator type (kinematic states) for a describing function; {d.kind} is not"
+        )
+    u_y = vs.transition_length or float(amplitude_in)
     # Resolve the hysteretic transition (a displacement of about u_y) with >= 50 steps.
     steps = int(min(max(4000, 50 * TWO_PI * amplitude_in / u_y), 400000))
     force = np.zeros(steps)
+    kern = compiled(d)
     harmonic_force_cycle(
-        vs.kind_code, vs.parameter_array(), float(amplitude_in), TWO_PI * frequency_hz, steps, CYCLES, force
+        (kern.derivative, kern.outputs),
+        vs.parameter_array(),
+        d.n_states,
+        d.states.index(d.kinematics[0]),
+        d.states.index(d.kinematics[1]),
+        float(amplitude_in),
+        TWO_PI * frequency_hz,
+        steps,
+        CYCLES,
+        np.empty(kern.n_outputs),
+        force,
     )
     phase = TWO_PI * np.arange(steps) / steps
     N = complex(2.0 * np.mean(force * np.exp(-1j * phase)) / amplitude_in)

@@ -26,7 +26,9 @@ import numba
 import numpy as np
 
 from ..errors import ConfigError
-from ..virtual.kernels import KIND_PYTHON, vs_output_z, vs_step_rk3
+from ..virtual.codegen import compiled
+from ..virtual.kernels import no_vs_tick32, no_vs_tick64
+from ..virtual.system import DefinedVS
 from .discretize import DiscreteController
 from .kernels import controller_run, controller_step, controller_step_parts
 
@@ -77,15 +79,17 @@ class MILTrace:
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work, dt, a_g, w, out):
+def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, vs_fns, params, x_vs, work, dt, a_g, w, out):
     """One MIL loop of Figure 7.9 (corrected): VS output and RK3 step, then the controller.
 
     Parameters
     ----------
     m_z, m_w, s_z, s_w, tmp, compensated
         Controller arrays, see :func:`impedance_mil.implement.kernels.controller_step`.
-    kind_code : int
-        Built-in VS kind (:mod:`impedance_mil.virtual.kernels`).
+    vs_fns : tuple
+        ``(tick,)``: the VS's tick kernel in the arrays' dtype (generated from its
+        definition, :mod:`impedance_mil.virtual.codegen`); in a plain tuple so that
+        numba types it as a first-class function and compiles this kernel once.
     params, x_vs, work : ndarray
         VS parameters, state (updated in place) and RK3 work space (4*n).
     dt : float
@@ -104,10 +108,8 @@ def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_v
     wv = tmp[0]
     tmp[0] = dt
     h = tmp[0]
-    z = vs_output_z(kind_code, params, x_vs, ag, wv)
-    tmp[0] = z
-    z = tmp[0]
-    vs_step_rk3(kind_code, params, x_vs, ag, wv, h, work)
+    tick = vs_fns[0]
+    z = tick(params, x_vs, ag, wv, h, work)
     u, u_w = controller_step_parts(m_z, m_w, s_z, s_w, tmp, z, wv, compensated)
     out[0] = u
     out[1] = z
@@ -116,12 +118,12 @@ def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_v
 
 @numba.njit(cache=True, nogil=True)
 def mil_run_kernel(
-    m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work, dt, a_g, w, u, z_vs, out
+    m_z, m_w, s_z, s_w, tmp, compensated, vs_fns, params, x_vs, work, dt, a_g, w, u, z_vs, out
 ):
     """:func:`mil_step_kernel` over whole records; writes ``u`` and ``z_vs``."""
     for k in range(a_g.shape[0]):
         mil_step_kernel(
-            m_z, m_w, s_z, s_w, tmp, compensated, kind_code, params, x_vs, work, dt, a_g[k], w[k], out
+            m_z, m_w, s_z, s_w, tmp, compensated, vs_fns, params, x_vs, work, dt, a_g[k], w[k], out
         )
         u[k] = out[0]
         z_vs[k] = out[1]
@@ -135,10 +137,12 @@ class MILRuntime:
     controller : DiscreteController
         From :func:`~impedance_mil.implement.discretize`.
     vs : VirtualSystem, optional
-        The virtual system; needed by :meth:`mil_step`.  A built-in kind
-        (``kind_code >= 1``) is stepped by the compiled kernel; a user-defined
-        one (``KIND_PYTHON``) through its own Python methods (same sequence,
-        ~100x slower, and not renderable by the code generators).
+        The virtual system; needed by :meth:`mil_step`.  A system of a defined
+        type (:class:`~impedance_mil.virtual.DefinedVS`: SD, LR, FP, TFP or a
+        user's type) is stepped by the tick kernel generated from its
+        definition; one written as Python methods
+        (:class:`~impedance_mil.virtual.PythonVS`) through those methods (same
+        sequence, ~100x slower, and not renderable by the code generators).
     precision : {"single", "double"}
         Arithmetic of the controller (float32 as on the RMC75E, or float64).
     compensated : bool
@@ -172,12 +176,11 @@ class MILRuntime:
         self.tmp = np.zeros(max(controller.z.n_states, controller.w.n_states, 1), self.dtype)
         self.vs = vs
         n_vs = vs.n_states if vs is not None else 0
-        self.kind_code = int(vs.kind_code) if vs is not None else 0
-        self.vs_params = (
-            vs.parameter_array().astype(self.dtype)
-            if vs is not None and not self.python_vs
-            else np.zeros(0, self.dtype)
-        )
+        defined = isinstance(vs, DefinedVS)
+        no_vs = no_vs_tick32 if self.dtype == np.float32 else no_vs_tick64
+        #: ``(tick,)`` of the VS in the runtime dtype (a placeholder without a compiled VS).
+        self.vs_fns = (compiled(vs.definition).tick(self.dtype) if defined else no_vs,)
+        self.vs_params = vs.parameter_array().astype(self.dtype) if defined else np.zeros(0, self.dtype)
         self.x_vs = np.zeros(n_vs, float if self.python_vs else self.dtype)
         self.work = np.zeros(4 * max(n_vs, 1), self.dtype)
         self._out = np.zeros(3, self.dtype)
@@ -185,10 +188,9 @@ class MILRuntime:
 
     @property
     def python_vs(self) -> bool:
-        """True for a user-defined VS (``KIND_PYTHON``): it has no kernel, so :meth:`mil_step`
-        calls the object (float64 state, the VS's own Python arithmetic); the controller is
-        the same."""
-        return self.kind_code == KIND_PYTHON
+        """True for a VS written as Python methods: it has no kernel, so :meth:`mil_step` calls
+        the object (float64 state, the VS's own Python arithmetic); the controller is the same."""
+        return self.vs is not None and not isinstance(self.vs, DefinedVS)
 
     @property
     def loop_time_s(self) -> float:
@@ -230,7 +232,7 @@ class MILRuntime:
             self.s_w,
             self.tmp,
             self.compensated,
-            self.kind_code,
+            self.vs_fns,
             self.vs_params,
             self.x_vs,
             self.work,
@@ -279,7 +281,7 @@ class MILRuntime:
             self.s_w,
             self.tmp,
             self.compensated,
-            self.kind_code,
+            self.vs_fns,
             self.vs_params,
             self.x_vs,
             self.work,

@@ -462,7 +462,7 @@ def run_loop(
     s_w,
     tmp,
     compensated,
-    kind_code,
+    vs_fns,
     vs_params,
     x_vs,
     vs_work,
@@ -502,7 +502,7 @@ def run_loop(
         Ground acceleration [in/s^2] and open-loop command [in] per tick.
     m_z, m_w, s_z, s_w, tmp, compensated
         Controller arrays of :class:`impedance_mil.implement.MILRuntime`.
-    kind_code, vs_params, x_vs, vs_work
+    vs_fns, vs_params, x_vs, vs_work
         Virtual system (MODE_MIL).
     rec : ndarray (len(CHANNELS), n)
         Receives the records, one row per channel.
@@ -574,7 +574,7 @@ def run_loop(
                 s_w,
                 tmp,
                 compensated,
-                kind_code,
+                vs_fns,
                 vs_params,
                 x_vs,
                 vs_work,

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..errors import ConfigError, LimitTripped
 from ..plant.nonlinear import N_TABLE_STATES
+from ..virtual.kernels import no_vs_tick64
 from .kernels import CHANNELS, FEEDBACK_FE, FEEDBACK_LC, MODE_MIL, MODE_OPEN, MODE_TRACK, TRIP_NAMES, run_loop
 from .plant_interface import PlantInterface, VirtualTable, specimen_arrays
 from .results import RunResult, Trip
@@ -91,7 +92,7 @@ def _controller_arrays(runtime):
     if runtime is None:
         z = np.zeros((1, 1))
         s = np.zeros((2, 0))
-        return (z, z, s, s.copy(), np.zeros(1), False, 0, np.zeros(0), np.zeros(0), np.zeros(1))
+        return (z, z, s, s.copy(), np.zeros(1), False, (no_vs_tick64,), np.zeros(0), np.zeros(0), np.zeros(1))
     runtime.reset()
     return (
         runtime.m_z,
@@ -100,7 +101,7 @@ def _controller_arrays(runtime):
         runtime.s_w,
         runtime.tmp,
         runtime.compensated,
-        runtime.kind_code,
+        runtime.vs_fns,
         runtime.vs_params,
         runtime.x_vs,
         runtime.work,

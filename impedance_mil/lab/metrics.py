@@ -22,7 +22,6 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..signals.spectrum import response_spectrum
-from ..virtual.kernels import vs_force
 
 #: Frequency bands of the spectral error [Hz].
 BANDS_HZ = ((0.25, 15.0), (15.0, 50.0))
@@ -155,10 +154,8 @@ def dissipated_energy(force, displacement) -> float:
 
 
 def vs_force_history(vs, states) -> np.ndarray:
-    """Isolator force F [lbf] of a built-in VS along recorded states."""
-    params = np.asarray(vs.parameter_array(), dtype=float)
-    kind = int(vs.kind_code)
-    return np.array([vs_force(kind, params, np.asarray(x, dtype=float)) for x in states])
+    """Isolator force F [lbf] of a VS along recorded states (the force output of its definition)."""
+    return vs.force_along(np.asarray(states, dtype=float))
 
 
 def energy_error(result, vs, ground_displacement) -> float:

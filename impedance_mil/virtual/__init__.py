@@ -1,23 +1,45 @@
-"""Virtual systems (isolators) the table imitates: SD, LR, FP and user-defined (report Section 5).
+"""Virtual systems the table imitates: SD, LR, FP, TFP and user-defined types (report Section 5).
 
-The dynamics live once, in the compiled kernels of
-:mod:`impedance_mil.virtual.kernels`; the classes here are value objects
-that call them.  See ``docs/virtual.md``.
+Each type is written once, as a :class:`~impedance_mil.virtual.definition.VSDefinition`
+in a module of :mod:`impedance_mil.virtual.types` (or in a user's file, see
+:mod:`impedance_mil.virtual.registry`); its compiled kernels, linear part,
+describing function and generated C/ST code are derived from it.  See
+``docs/virtual.md``.
 """
 
-from . import kernels, presets
-from .base import LinearPart, VirtualSystem, VSOutput, VSResponse
+from . import presets
+from .base import LinearPart, PythonVS, VirtualSystem, VSOutput, VSResponse
+from .codegen import CompiledVS, compiled
+from .definition import Derived, Parameter, Rule, VSDefinition, VSDefinitionError
 from .models import FrictionPendulum, LeadRubber, SpringDamper
-from .targets import BASEMAT_MASS, TEST_ARTICLE_WEIGHT, FPTargets, LRTargets, SDTargets
-from .two_storey import IsolatedTwoStorey, example_two_storey
+from .registry import BUILTIN, get_type, kinds, load_type_file
+from .system import DefinedVS
+from .targets import BASEMAT_MASS, TEST_ARTICLE_WEIGHT
+from .types.friction_pendulum import FPTargets
+from .types.lead_rubber import LRTargets
+from .types.spring_damper import SDTargets
+from .vstype import VSType
 
 __all__ = [
-    "kernels",
     "presets",
     "VirtualSystem",
+    "DefinedVS",
+    "PythonVS",
     "VSOutput",
     "VSResponse",
     "LinearPart",
+    "VSDefinition",
+    "VSDefinitionError",
+    "VSType",
+    "Parameter",
+    "Derived",
+    "Rule",
+    "CompiledVS",
+    "compiled",
+    "BUILTIN",
+    "kinds",
+    "get_type",
+    "load_type_file",
     "SpringDamper",
     "LeadRubber",
     "FrictionPendulum",
@@ -26,6 +48,4 @@ __all__ = [
     "FPTargets",
     "BASEMAT_MASS",
     "TEST_ARTICLE_WEIGHT",
-    "IsolatedTwoStorey",
-    "example_two_storey",
 ]

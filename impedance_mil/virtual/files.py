@@ -14,7 +14,13 @@ units::
 or ``preset = "LR2"`` plus changed values.  A file is read as design
 targets when it has a target-only key (SD: ``f``, ``zeta``; LR:
 ``q_ratio``, ``T_s``, ``u_y``; FP: ``T_s``); otherwise as model parameters
-(``k_s``, ``c``, ...).  Keys, units and ranges: :data:`UNITS`, :data:`CHECKS`.
+(``k_s``, ``c``, ...).  Keys, units, ranges and labels come from each type's
+definition (:mod:`impedance_mil.virtual.types`).
+
+A user's own type (a Python file defining ``TYPE`` or ``DEFINITION``, see
+:mod:`impedance_mil.virtual.registry`) is named by ``type_file`` (a path
+relative to the VS file) instead of ``kind``, with its parameters or one of
+its presets.  ``--vs my_type.py`` alone takes the file's only preset.
 """
 
 from __future__ import annotations
@@ -31,76 +37,35 @@ from ..errors import ConfigError
 from ..units import G0, INTERNAL_UNITS
 from . import presets
 from .base import VirtualSystem
-from .models import FrictionPendulum, LeadRubber, SpringDamper
-from .targets import TARGETS
+from .definition import Parameter
+from .registry import BUILTIN, get_type, load_type_file
+from .system import DefinedVS
+from .vstype import VSType
 
-_MASS = INTERNAL_UNITS["mass"]
 
-#: Internal unit of every key (pint expression) that a VS file, ``--set`` or the listing uses.
-UNITS: dict[str, str] = {
-    "m_vs": _MASS,
-    "m_ps": _MASS,
-    "w_ps": "force_pound",
-    "W": "force_pound",
-    "q_d": "force_pound",
-    "f_y": "force_pound",
-    "k_s": "force_pound / inch",
-    "k_i": "force_pound / inch",
-    "c": "force_pound * second / inch",
-    "u_y": "inch",
-    "R_eff": "inch",
-    "f": "hertz",
-    "f_vs": "hertz",
-    "f_post_vs": "hertz",
-    "T_s": "second",
-    "a": "second / inch",
-    "zeta": "dimensionless",
-    "zeta_vs": "dimensionless",
-    "alpha": "dimensionless",
-    "q_ratio": "dimensionless",
-    "mu_max": "dimensionless",
-    "mu_min": "dimensionless",
-    "n": "dimensionless",
-}
+def _keys(vstype: VSType) -> dict[str, Parameter]:
+    """Every key of a type: parameters, derived values and target fields (later ones do not replace)."""
+    d = vstype.definition
+    table: dict[str, Parameter] = {p.name: p for p in d.parameters}
+    for x in d.derived:
+        table.setdefault(x.name, Parameter(x.name, x.unit, x.label, "any"))
+    for f in vstype.target_fields:
+        table.setdefault(f.name, f)
+    return table
 
-#: Range check of each input key (see :data:`impedance_mil.config.CHECKS`); others are positive.
-CHECKS: dict[str, str] = {
-    "c": "nonnegative",
-    "zeta": "nonnegative",
-    "alpha": "fraction",
-    "a": "nonnegative",
-    "w_ps": "nonnegative",
-}
 
-#: Human-readable label of each key, for the listing.
-LABELS: dict[str, str] = {
-    "f": "Target frequency",
-    "zeta": "Target damping ratio",
-    "q_ratio": "Characteristic strength ratio",
-    "T_s": "Post-elastic period",
-    "m_vs": "Mass of the basemat",
-    "m_ps": "Mass of the test article",
-    "w_ps": "Weight of the test article",
-    "k_s": "Post-elastic (horizontal) stiffness",
-    "c": "Damping coefficient",
-    "q_d": "Characteristic strength",
-    "k_i": "Initial stiffness",
-    "alpha": "Stiffness ratio",
-    "u_y": "Yield displacement",
-    "f_y": "Yield strength",
-    "n": "Smoothing parameter",
-    "mu_max": "Fast friction coefficient",
-    "mu_min": "Slow friction coefficient",
-    "a": "Rate parameter",
-    "W": "Axial load",
-    "R_eff": "Effective radius",
-    "f_vs": "Frequency of the basemat alone",
-    "zeta_vs": "Damping ratio of the basemat alone",
-    "f_post_vs": "Post-elastic frequency of the basemat alone",
-}
+def _merged(attr: str) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for t in BUILTIN.values():
+        for key, p in _keys(t).items():
+            out.setdefault(key, getattr(p, attr))
+    return out
 
-_MODELS = {"SD": SpringDamper, "LR": LeadRubber, "FP": FrictionPendulum}
-_TARGET_ONLY = {"SD": {"f", "zeta"}, "LR": {"q_ratio", "T_s", "u_y"}, "FP": {"T_s"}}
+
+#: Internal unit of every key of the built-in types (pint expression).
+UNITS: dict[str, str] = {**_merged("unit"), "m_ps": INTERNAL_UNITS["mass"]}
+#: Human-readable label of every key of the built-in types.
+LABELS: dict[str, str] = {**_merged("label"), "m_ps": "Mass of the test article"}
 
 
 @dataclass(frozen=True)
@@ -113,16 +78,19 @@ class VSSpec:
         Preset name or file stem.
     vs : VirtualSystem
         The system.
-    targets : SDTargets, LRTargets, FPTargets or None
+    targets : object or None
         Design targets it was built from (None for model parameters given directly).
     model_overrides : dict
         Model parameters set after building from the targets (internal units).
+    vstype : VSType or None
+        The VS's type (None for a VS written in Python).
     """
 
     name: str
     vs: VirtualSystem
     targets: Any = None
     model_overrides: dict = dataclasses.field(default_factory=dict)
+    vstype: VSType | None = None
 
 
 @dataclass(frozen=True)
@@ -135,28 +103,25 @@ class Property:
     label: str
 
 
-def _fields_of(cls) -> dict[str, Field]:
-    out = {}
-    for f in dataclasses.fields(cls):
-        default = None if f.default is dataclasses.MISSING else f.default
-        out[f.name] = Field(
-            unit=UNITS[f.name],
-            check=CHECKS.get(f.name, "positive"),
-            default=default,
-            help=LABELS.get(f.name, ""),
-        )
-    return out
+def _fields(params: tuple[Parameter, ...]) -> dict[str, Field]:
+    return {p.name: Field(unit=p.unit, check=p.check, default=p.default, help=p.label) for p in params}
 
 
-def _convert(raw: Mapping[str, Any], known: set[str], kind: str, where: str) -> dict[str, float]:
+def _convert(
+    raw: Mapping[str, Any], table: Mapping[str, Parameter], kind: str, where: str
+) -> dict[str, float]:
     for key in raw:
-        if key not in known:
-            raise ConfigError(f"{where}{key}", f"a {kind} parameter or target: " + ", ".join(sorted(known)))
-    return {k: quantity(f"{where}{k}", v, UNITS[k], CHECKS.get(k, "positive")) for k, v in raw.items()}
+        if key not in table:
+            raise ConfigError(f"{where}{key}", f"a {kind} parameter or target: " + ", ".join(sorted(table)))
+    return {k: quantity(f"{where}{k}", v, table[k].unit, table[k].check) for k, v in raw.items()}
 
 
-def spec_from_mapping(mapping: Mapping[str, Any], name: str = "file", where: str = "") -> VSSpec:
+def spec_from_mapping(
+    mapping: Mapping[str, Any], name: str = "file", where: str = "", folder: Path | None = None
+) -> VSSpec:
     """Build a :class:`VSSpec` from a parsed VS file (see the module docstring).
+
+    ``folder`` is where a ``type_file`` is looked up (the VS file's folder).
 
     Raises
     ------
@@ -167,27 +132,55 @@ def spec_from_mapping(mapping: Mapping[str, Any], name: str = "file", where: str
     data = dict(mapping)
     preset = data.pop("preset", None)
     kind = data.pop("kind", None)
+    type_file = data.pop("type_file", None)
+    if type_file is not None:
+        if kind is not None:
+            raise ConfigError(f"{where}kind", "either kind (a built-in type) or type_file, not both", kind)
+        vstype = load_type_file((folder or Path(".")) / str(type_file))
+        if preset is not None:
+            return with_overrides(_preset_spec(vstype, str(preset), where), data, where)
+        return _parameters_spec(vstype, name, data, where)
     if preset is not None:
         design = presets.targets(str(preset))
-        if kind is not None and str(kind).upper() != design.kind:
-            raise ConfigError(f"{where}kind", f"'{design.kind}' (the kind of preset {preset})", kind)
-        return with_overrides(VSSpec(str(preset).upper(), design.build(), design), data, where)
-    if not isinstance(kind, str) or kind.strip().upper() not in _MODELS:
-        raise ConfigError(f"{where}kind", "one of 'SD', 'LR', 'FP'", kind)
-    kind = kind.strip().upper()
-    model, target_cls = _MODELS[kind], TARGETS[kind]
-    if _TARGET_ONLY[kind] & set(data):
-        target_fields = _fields_of(target_cls)
+        vstype = presets.vs_type(str(preset))
+        if kind is not None and str(kind).strip().upper() != vstype.kind:
+            raise ConfigError(f"{where}kind", f"'{vstype.kind}' (the kind of preset {preset})", kind)
+        return with_overrides(_preset_spec(vstype, str(preset).strip().upper(), where), data, where)
+    if not isinstance(kind, str):
+        raise ConfigError(
+            f"{where}kind", "one of " + ", ".join(f"'{k}'" for k in BUILTIN) + " (or type_file)", kind
+        )
+    try:
+        vstype = get_type(kind)
+    except ConfigError as exc:
+        raise ConfigError(f"{where}kind", exc.expected, kind) from None
+    if vstype.targets is not None and vstype.target_only & set(data):
+        target_fields = _fields(vstype.target_fields)
         extra = {k: v for k, v in data.items() if k not in target_fields}
-        design = target_cls(
+        design = vstype.targets(
             **parse_fields(target_fields, {k: v for k, v in data.items() if k in target_fields}, where=where)
         )
-        return with_overrides(VSSpec(name, design.build(), design), extra, where)
-    return VSSpec(name, model(**parse_fields(_fields_of(model), data, where=where)))
+        return with_overrides(VSSpec(name, design.build(), design, vstype=vstype), extra, where)
+    return _parameters_spec(vstype, name, data, where)
+
+
+def _parameters_spec(vstype: VSType, name: str, data: Mapping[str, Any], where: str) -> VSSpec:
+    values = parse_fields(_fields(vstype.definition.parameters), data, where=where)
+    return VSSpec(name, DefinedVS(vstype.definition, values, where), vstype=vstype)
+
+
+def _preset_spec(vstype: VSType, preset: str, where: str) -> VSSpec:
+    if preset not in vstype.presets:
+        raise ConfigError(
+            f"{where}preset", f"a preset of {vstype.kind}: " + ", ".join(vstype.presets), preset
+        )
+    design = vstype.presets[preset]
+    targets = None if isinstance(design, Mapping) else design
+    return VSSpec(preset, vstype.build_preset(preset), targets, vstype=vstype)
 
 
 def load(path: str | Path) -> VSSpec:
-    """Read a VS file (TOML).
+    """Read a VS file (TOML), or a user's type file (``.py``) with exactly one preset.
 
     Raises
     ------
@@ -198,8 +191,18 @@ def load(path: str | Path) -> VSSpec:
     """
     p = Path(path)
     where = f"{p.name}: "
+    if p.suffix == ".py":
+        vstype = load_type_file(p)
+        if len(vstype.presets) != 1:
+            raise ConfigError(
+                f"{where}presets",
+                "exactly one preset to run the type file alone (or a VS TOML "
+                "file with type_file and its parameters)",
+                len(vstype.presets),
+            )
+        return _preset_spec(vstype, next(iter(vstype.presets)), where)
     try:
-        return spec_from_mapping(read_toml(p), name=p.stem, where=where)
+        return spec_from_mapping(read_toml(p), name=p.stem, where=where, folder=p.parent)
     except ConfigError as exc:
         if exc.key.startswith(where):
             raise
@@ -207,7 +210,7 @@ def load(path: str | Path) -> VSSpec:
 
 
 def resolve(preset_or_file: str, overrides: Mapping[str, Any] | None = None) -> VSSpec:
-    """A preset name (``SD1`` .. ``FP3``) or a VS file, with ``--set`` overrides applied.
+    """A preset name (``SD1`` .. ``FP3`` ...) or a VS file, with ``--set`` overrides applied.
 
     Raises
     ------
@@ -218,8 +221,7 @@ def resolve(preset_or_file: str, overrides: Mapping[str, Any] | None = None) -> 
     """
     text = str(preset_or_file)
     if text.strip().upper() in presets.names():
-        design = presets.targets(text)
-        spec = VSSpec(text.strip().upper(), design.build(), design)
+        spec = _preset_spec(presets.vs_type(text), text.strip().upper(), "")
     elif Path(text).exists():
         spec = load(text)
     else:
@@ -237,27 +239,33 @@ def with_overrides(spec: VSSpec, overrides: Mapping[str, Any], where: str = "") 
     """
     if not overrides:
         return spec
-    known = {f.name for f in dataclasses.fields(spec.vs)}
+    vs = spec.vs
+    if not isinstance(vs, DefinedVS):
+        raise ConfigError(
+            f"{where}--set", f"a VS of a defined type ({type(vs).__name__} is written in Python)"
+        )
+    table = {p.name: p for p in vs.definition.parameters}
+    if spec.targets is not None and spec.vstype is not None:
+        table.update({f.name: f for f in spec.vstype.target_fields if f.name not in table})
+    values = _convert(overrides, table, vs.kind, where)
+    model_keys = set(vs.definition.parameter_names)
     if spec.targets is not None:
-        known |= {f.name for f in dataclasses.fields(spec.targets)}
-    values = _convert(overrides, known, spec.vs.kind, where)
-    if spec.targets is not None:
-        model_keys = {f.name for f in dataclasses.fields(spec.vs)}
         targets = dataclasses.replace(
             spec.targets, **{k: v for k, v in values.items() if k not in model_keys}
         )
         model = {**spec.model_overrides, **{k: v for k, v in values.items() if k in model_keys}}
-        return VSSpec(spec.name, presets.apply_overrides(targets, model), targets, model)
-    return VSSpec(spec.name, dataclasses.replace(spec.vs, **values))
+        return VSSpec(spec.name, presets.apply_overrides(targets, model), targets, model, spec.vstype)
+    return VSSpec(spec.name, vs.replace(**values), vstype=spec.vstype)
 
 
-def from_parameters(kind: Any, parameters: Any, where: str = "") -> VirtualSystem:
+def from_parameters(kind: Any, parameters: Any, where: str = "", vstype: VSType | None = None) -> DefinedVS:
     """Rebuild a VS from its kind and parameters in internal units (as a design file stores them).
 
     ``parameters`` is :meth:`VirtualSystem.to_dict`: the model parameters and,
     optionally, ``kind`` and the derived values.  Derived values that disagree with
     the ones the parameters give (a hand edit of a derived value) are refused, so
-    that what is rebuilt is exactly what the mapping describes.
+    that what is rebuilt is exactly what the mapping describes.  ``vstype`` gives
+    the type when it is not a built-in one.
 
     Raises
     ------
@@ -265,31 +273,31 @@ def from_parameters(kind: Any, parameters: Any, where: str = "") -> VirtualSyste
         Unknown kind, a missing, non-numeric or unknown parameter, or a derived
         value that disagrees with the parameters (the key is named).
     """
-    if not isinstance(kind, str) or kind.strip().upper() not in _MODELS:
-        raise ConfigError(f"{where}kind", "one of " + ", ".join(f"'{k}'" for k in _MODELS), kind)
+    if vstype is None:
+        if not isinstance(kind, str) or kind.strip().upper() not in BUILTIN:
+            raise ConfigError(f"{where}kind", "one of " + ", ".join(f"'{k}'" for k in BUILTIN), kind)
+        vstype = BUILTIN[kind.strip().upper()]
     if not isinstance(parameters, Mapping):
         raise ConfigError(f"{where}parameters", "a table of the VS parameters", parameters)
-    model = _MODELS[kind.strip().upper()]
-    names = [f.name for f in dataclasses.fields(model)]
+    d = vstype.definition
     values: dict[str, float] = {}
-    for key in names:
+    for key in d.parameter_names:
         value = parameters.get(key)
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
+        if isinstance(value, bool) or not isinstance(value, int | float):
             raise ConfigError(f"{where}parameters.{key}", "a number in internal units", value)
         values[key] = float(value)
-    try:
-        vs = model(**values)
-    except ConfigError as exc:
-        raise ConfigError(f"{where}parameters.{exc.key}", exc.expected, exc.got) from None
+    vs = DefinedVS(d, values, where=f"{where}parameters.")
     derived = vs.derived()
     for key, value in parameters.items():
         if key in values or key == "kind":
             continue
         if key not in derived:
-            raise ConfigError(f"{where}parameters.{key}", f"a {vs.kind} parameter: " + ", ".join(names))
+            raise ConfigError(
+                f"{where}parameters.{key}", f"a {vs.kind} parameter: " + ", ".join(d.parameter_names)
+            )
         if (
             isinstance(value, bool)
-            or not isinstance(value, (int, float))
+            or not isinstance(value, int | float)
             or not math.isclose(float(value), derived[key], rel_tol=1e-9, abs_tol=1e-300)
         ):
             raise ConfigError(
@@ -308,4 +316,10 @@ def describe(spec: VSSpec) -> list[Property]:
     values.update({k: v for k, v in spec.vs.to_dict().items() if k != "kind"})
     if "w_ps" in values:
         values["m_ps"] = values["w_ps"] / G0
-    return [Property(k, float(v), UNITS.get(k, "dimensionless"), LABELS.get(k, k)) for k, v in values.items()]
+    table = _keys(spec.vstype) if spec.vstype is not None else {}
+    units = {k: p.unit for k, p in table.items()} | {"m_ps": INTERNAL_UNITS["mass"]}
+    labels = {k: p.label for k, p in table.items()} | {"m_ps": "Mass of the test article"}
+    return [
+        Property(k, float(v), units.get(k, UNITS.get(k, "dimensionless")), labels.get(k, LABELS.get(k, k)))
+        for k, v in values.items()
+    ]

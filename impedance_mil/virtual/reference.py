@@ -12,7 +12,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..errors import ConfigError
-from .base import VirtualSystem, _inputs, _state
+from .base import VirtualSystem, inputs_of, state_of
 
 
 def reference_states(
@@ -41,8 +41,8 @@ def reference_states(
     """
     if not dt > 0:
         raise ConfigError("dt", "a positive time step in s", dt)
-    a, ww = _inputs(a_g, w)
-    x = vs.initial_state() if x0 is None else _state(x0).copy()
+    a, ww = inputs_of(a_g, w)
+    x = vs.initial_state() if x0 is None else state_of(x0).copy()
     out = np.empty((a.size + 1, x.size))
     out[0] = x
     for k in range(a.size):

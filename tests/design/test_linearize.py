@@ -1,7 +1,5 @@
 """Equivalent linearization of hysteretic VS (design/linearize.py) and the constraints it changes."""
 
-import dataclasses
-
 import numpy as np
 import pytest
 
@@ -34,7 +32,7 @@ def test_bouc_wen_tends_to_the_bilinear_closed_form(D):
     # Caughey's (1960): Re = a k_i + (1-a) k_i (p - sin(2p)/2)/pi, cos p = 1 - 2 u_y/D,
     # Im = 4 q_d (D - u_y)/(pi D^2) (AASHTO's loop area 4 Q_d (D - D_y)), plus w c.
     # Tolerance 1.5% of |N|: the n = 60 loop still rounds its corners over ~u_y/60.
-    lr = dataclasses.replace(presets.get("LR2"), n=60.0)
+    lr = presets.get("LR2").replace(n=60.0)
     f = 1.0
     p = np.arccos(1 - 2 * lr.u_y / D)
     re = lr.alpha * lr.k_i + (1 - lr.alpha) * lr.k_i * (p - np.sin(2 * p) / 2) / np.pi

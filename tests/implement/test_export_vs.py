@@ -8,7 +8,6 @@ derived values, unknown kinds and a mismatching ``--vs`` are refused.
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import re
 
@@ -18,7 +17,6 @@ import pytest
 from impedance_mil.design import design_controller, save_design, table_model
 from impedance_mil.plant import TableParameters
 from impedance_mil.virtual import presets
-from impedance_mil.virtual.kernels import PARAM_NAMES
 
 
 def _c_constants(text: str) -> dict[str, float]:
@@ -34,7 +32,9 @@ def _st_constants(text: str) -> dict[str, float]:
 
 # Each parameter of each kind, with a changed value (internal units) that keeps the
 # VS valid (LR alpha < 1, FP mu_min <= mu_max).
-_CASES = [(name, f.name) for name in ("SD2", "LR2", "FP2") for f in dataclasses.fields(presets.get(name))]
+_CASES = [
+    (name, key) for name in ("SD2", "LR2", "FP2") for key in presets.get(name).definition.parameter_names
+]
 
 
 @pytest.mark.parametrize("name,key", _CASES)
@@ -44,8 +44,8 @@ def test_every_vs_parameter_set_at_design_reaches_c_and_st(imil, tmp_path, name,
     r = imil("design", "--vs", name, "--set-vs", f"{key}={value!r}", "-o", "d.json", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     expected_vs = presets.get(name, **{key: value})
-    expected = dict(zip(PARAM_NAMES[expected_vs.kind_code], expected_vs.parameter_array()))
-    stock = dict(zip(PARAM_NAMES[base.kind_code], base.parameter_array()))
+    expected = dict(zip(expected_vs.definition.kernel_constants, expected_vs.parameter_array()))
+    stock = dict(zip(base.definition.kernel_constants, base.parameter_array()))
     for fmt, reader, prec in (
         ("c", _c_constants, "double"),
         ("st", _st_constants, "double"),

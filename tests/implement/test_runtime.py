@@ -8,7 +8,7 @@ import scipy.signal
 
 from impedance_mil.errors import ConfigError
 from impedance_mil.implement import MILRuntime, discretize
-from impedance_mil.virtual import example_two_storey, presets
+from impedance_mil.virtual import PythonVS, VSOutput, presets
 
 from .conftest import FC_HZ, LOOP_TIME_S, broadband_record
 
@@ -133,12 +133,29 @@ def test_mil_step_runs_the_vs_and_the_controller_in_one_loop(controller, record)
     assert first.u == trace.u[0] and first.z_vs == trace.z_vs[0]
 
 
-def test_python_vs_mil_step_equals_run_mil_in_single_precision(controller, record):
-    # A user-defined VS (Python path): loop-by-loop mil_step and run_mil give the same
-    # u and z_vs bit for bit, z_vs being the float32 value the controller used.
+class _PythonSpring(PythonVS):
+    """A VS written as Python methods (the Python path of the runtime)."""
+
+    kind = "PySpring"
+    user_n_states = 2
+
+    def derivative(self, x, a_g: float, w: float) -> np.ndarray:
+        return np.array([x[1], (w - 900.0 * x[0] - 50.0 * x[1]) / self.m_vs - a_g])
+
+    def outputs(self, x, a_g: float, w: float) -> VSOutput:
+        force = 900.0 * x[0] + 50.0 * x[1]
+        return VSOutput((w - force) / self.m_vs, float(x[0]), float(x[1]), float(force))
+
+
+@pytest.mark.parametrize("user_type", ["python", "definition"])
+def test_user_vs_mil_step_equals_run_mil_in_single_precision(controller, record, two_storey, user_type):
+    # A user-defined VS, written as Python methods (Python path) or as a definition
+    # in the user's own file (compiled): loop-by-loop mil_step and run_mil give the
+    # same u and z_vs bit for bit, z_vs being the float32 value the controller used.
     a_g, w = record[0][:400], record[1][:400]
-    rt = MILRuntime(controller, vs=example_two_storey(), precision="single")
-    assert rt.python_vs
+    vs = _PythonSpring(m_vs=5.18) if user_type == "python" else two_storey.example_two_storey()
+    rt = MILRuntime(controller, vs=vs, precision="single")
+    assert rt.python_vs == (user_type == "python")
     trace = rt.run_mil(a_g, w)
     rt.reset()
     steps = [rt.mil_step(a, f) for a, f in zip(a_g, w)]

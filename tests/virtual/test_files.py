@@ -16,7 +16,7 @@ def _write(tmp_path, text, name="vs.toml"):
 
 def test_model_parameters_file(tmp_path):
     spec = load(_write(tmp_path, 'kind = "SD"\nm_vs = "2000 lb"\nk_s = "894 lbf/in"\nc = 57\n'))
-    assert isinstance(spec.vs, SpringDamper) and spec.targets is None
+    assert spec.vs.kind == SpringDamper.kind == "SD" and spec.targets is None
     assert spec.vs.m_vs == pytest.approx(2000 / G0, rel=1e-12)  # pint: lb -> lbf*s^2/in exactly
     assert (spec.vs.k_s, spec.vs.c) == (894.0, 57.0)
 

@@ -25,10 +25,12 @@ import numpy as np
 
 from ... import __version__ as _pkg_version
 from ...errors import ConfigError
+from ...virtual.expressions import CONSTANTS, c_dialect
+from ...virtual.listing import Language, expression_type, tick_statements, value_types
+from ...virtual.system import DefinedVS
 from ..discretize import DiscreteController
 from ..identifiers import check_c_identifier
 from ..runtime import precision_dtype
-from ..vs_equations import RK3, equations_for, render
 
 
 @dataclass(frozen=True)
@@ -64,47 +66,86 @@ def _matrix(m: np.ndarray, precision: str) -> str:
 
 
 def _vs_code(vs, prefix: str, precision: str, loop_time: str) -> dict:
-    eq = equations_for(vs)
+    """Template fields of the VS: its constants and the loop listing of its definition."""
+    d = definition_of(vs)
+    rt = f"{prefix}_real_t"
+    single = precision == "single"
+    types = value_types(d)
+    consts, inter = set(d.kernel_constants), {n for n, _ in d.intermediates}
+
+    def name(n: str) -> str:
+        if n in CONSTANTS:
+            return c_literal(CONSTANTS[n], "double")
+        if n in consts:
+            return f"{prefix}_vs_{n}"
+        if n in inter:
+            return f"t_{n}"
+        return f"s_{n}" if n in d.states else n
+
+    def is_float(node) -> bool:
+        return single and expression_type(node, types) == "T"
+
+    arrays = {"x": "s->x_vs", "xs": "xs", "k1": "k1", "k2": "k2", "k3": "k3"}
+    lang = Language(
+        dialect=c_dialect(name, lambda v: c_literal(v, "double"), f"{prefix}_sign", is_float),
+        element=lambda a, i: f"{arrays[a]}[{i}]",
+        assign=lambda t, v: f"    {t} = {v};",
+        number=lambda v: c_literal(v, "double"),
+    )
+    values = vs.parameter_array()
+    params = "\n".join(
+        f"static const {rt} {prefix}_vs_{n} = {c_literal(v, precision)};  /* {_label(d, n)} */"
+        for n, v in zip(d.kernel_constants, values, strict=True)
+    )
+    locals_ = [f"    {rt} s_{s};" for s in d.states]
+    locals_ += [f"    {'double' if types[n] == 'f64' else rt} t_{n};" for n, _ in d.intermediates]
+    unused = [f"    (void)t_{n};" for n, _ in d.intermediates]
+    return dict(
+        vs_kind=d.kind,
+        vs_name=getattr(vs, "name", "") or "",
+        vs_title=d.title,
+        vs_source=d.source,
+        vs_states=" [" + ", ".join(f"{s} [{u}]" for s, u in zip(d.states, d.state_units, strict=True)) + "]",
+        vs_params=params,
+        vs_locals="\n".join(locals_),
+        vs_unused="\n".join(unused),
+        vs_body="\n".join(tick_statements(d, lang, "z_vs")),
+        n_vs=d.n_states,
+        loop_time_literal=loop_time,
+        prefix=prefix,
+    )
+
+
+def _label(d, name: str) -> str:
+    for p in d.parameters:
+        if p.name == name:
+            return f"{p.label} [{p.unit}]"
+    for x in d.derived:
+        if x.name == name:
+            return f"{x.label} [{x.unit}] = {x.expression}"
+    return name
+
+
+def definition_of(vs):
+    """The definition of a VS the generators can render (a :class:`~impedance_mil.virtual.DefinedVS`).
+
+    Raises
+    ------
+    ConfigError
+        A VS written as Python methods (no definition to render).
+    """
+    if not isinstance(vs, DefinedVS):
+        raise ConfigError(
+            "vs",
+            "a virtual system of a defined type (SD, LR, FP, TFP or a user's "
+            "VSDefinition) for code generation",
+            type(vs).__name__,
+        )
     if np.any(np.asarray(vs.initial_state(), float) != 0.0):
         raise ConfigError(
             "vs", "a virtual system starting at rest (generated init zeroes it)", list(vs.initial_state())
         )
-    suffix = "f" if precision == "single" else ""
-    funcs = {"abs": f"fabs{suffix}", "exp": f"exp{suffix}", "pow": f"pow{suffix}", "sign": f"{prefix}_sign"}
-    pnames = set(eq.params)
-
-    def name(n):
-        return f"{prefix}_vs_{n}" if n in pnames else n
-
-    def expr(e):
-        return render(
-            e, name, lambda v: c_literal(v, precision), lambda f, args: f"{funcs[f]}({', '.join(args)})"
-        )
-
-    values = vs.parameter_array()
-    rt = f"{prefix}_real_t"
-    params = "\n".join(
-        f"static const {rt} {prefix}_vs_{n} = {c_literal(v, precision)};" for n, v in zip(eq.params, values)
-    )
-    locals_ = "\n".join(f"    const {rt} {s} = s_x[{i}];" for i, s in enumerate(eq.states))
-    locals_ += "\n" + "\n".join(f"    (void){s};" for s in eq.states)
-    temps = "\n".join(f"    const {rt} {n} = {expr(e)};" for n, e in eq.temps)
-    temps += "\n" + "\n".join(f"    (void){n};" for n, _ in eq.temps)
-    derivs = "\n".join(f"    dx[{i}] = {expr(e)};" for i, e in enumerate(eq.derivatives))
-    fields = dict(
-        vs_kind=eq.kind,
-        vs_name=getattr(vs, "name", "") or "",
-        vs_params=params,
-        vs_state_locals=locals_,
-        vs_temps=temps,
-        vs_force=expr(eq.force),
-        vs_derivs=derivs,
-        n_vs=len(eq.states),
-        loop_time_literal=loop_time,
-        prefix=prefix,
-        **{k: c_literal(v, precision) for k, v in RK3.items()},
-    )
-    return fields
+    return vs.definition
 
 
 def render_c(
@@ -124,8 +165,9 @@ def render_c(
         ``float`` or ``double`` arithmetic.
     prefix : str
         C identifier prefixed to every exported name.
-    vs : VirtualSystem, optional
-        Built-in SD/LR/FP VS; adds ``<prefix>_mil_step`` (Figure 7.9, corrected).
+    vs : DefinedVS, optional
+        A VS of a defined type (built-in or a user's); adds ``<prefix>_mil_step``
+        (Figure 7.9, corrected), rendered from the type's definition.
     design_summary : str
         One line describing the design, copied into the header comment.
     """
@@ -135,7 +177,7 @@ def render_c(
     m_z = controller.z.system_matrix()
     m_w = controller.w.system_matrix()
     n_z, n_w = controller.z.n_states, controller.w.n_states
-    n_vs = len(equations_for(vs).states) if vs is not None else 0
+    n_vs = definition_of(vs).n_states if vs is not None else 0
     loop_time = c_literal(controller.loop_time_s, precision)
     fields = dict(
         prefix=prefix,
@@ -160,7 +202,7 @@ def render_c(
         n_int=controller.z.n_integrators,
         mz=_matrix(m_z, precision),
         mw=_matrix(m_w, precision),
-        vs_states=(" [" + ", ".join(equations_for(vs).states) + "]") if vs is not None else "(unused)",
+        vs_states=(" [" + ", ".join(definition_of(vs).states) + "]") if vs is not None else "(unused)",
         math_include="#include <math.h>" if vs is not None else "",
         mil_decl="",
         vs_code="",

@@ -18,10 +18,13 @@ from string import Template
 import numpy as np
 
 from ... import __version__ as _pkg_version
+from ...virtual.expressions import CONSTANTS, st_dialect
+from ...virtual.listing import Language, tick_statements
+from ...virtual.stepping import RK3
+from ..c.generator import definition_of
 from ..discretize import DiscreteController
 from ..identifiers import check_st_identifier
 from ..runtime import precision_dtype
-from ..vs_equations import RK3, equations_for, render
 
 
 def st_literal(value: float, precision: str) -> str:
@@ -89,56 +92,48 @@ def _controller(controller: DiscreteController, precision: str, real: str, const
 
 
 def _mil_block(controller, vs, prefix, precision, real) -> str:
-    eq = equations_for(vs)
-    n = len(eq.states)
+    d = definition_of(vs)
+    n = d.n_states
     lit = lambda v: st_literal(v, precision)  # noqa: E731
-    pnames, snames, tnames = set(eq.params), set(eq.states), {t for t, _ in eq.temps}
+    consts, inter = set(d.kernel_constants), {t for t, _ in d.intermediates}
 
-    def name(x):
-        if x in pnames:
+    def name(x: str) -> str:
+        if x in CONSTANTS:
+            return lit(CONSTANTS[x])
+        if x in consts:
             return f"p_{x}"
-        if x in snames:
-            return f"s_{x}"
-        if x in tnames:
+        if x in inter:
             return f"t_{x}"
-        return x
+        return f"s_{x}" if x in d.states else x
 
-    fn = {"abs": "ABS", "exp": "EXP", "pow": "EXPT", "sign": f"{prefix}_sign"}
-    ex = lambda e: render(e, name, lit, lambda f, a: f"{fn[f]}({', '.join(a)})")  # noqa: E731
-    params = [f"    p_{p} : {real} := {lit(v)};" for p, v in zip(eq.params, vs.parameter_array())]
-    rk = [f"    rk_{k} : {real} := {lit(v)};" for k, v in RK3.items()]
+    # the RK3 coefficients are named constants (rk_a21 ... rk_b3), as in the report's program
+    coefficients = {f"rk_a{s + 1}{j + 1}": c for s, row in enumerate(RK3.a) for j, c in enumerate(row) if c}
+    coefficients.update({f"rk_b{j + 1}": c for j, c in enumerate(RK3.b)})
+    by_value = {c: k for k, c in reversed(coefficients.items())}
 
-    def load(src):
-        """State and intermediate values at the state ``src``."""
-        return [f"s_{s} := {src}[{i}];" for i, s in enumerate(eq.states)] + [
-            f"t_{t} := {ex(e)};" for t, e in eq.temps
-        ]
+    def number(v: float) -> str:
+        return by_value[v]
 
-    def derivatives(dst):
-        return [f"{dst}[{i}] := {ex(e)};" for i, e in enumerate(eq.derivatives)]
-
-    def stage(src, dst):
-        return load(src) + derivatives(dst)
-
+    lang = Language(
+        dialect=st_dialect(name, lit, f"{prefix}_sign"),
+        element=lambda a, i: f"{a if a != 'x' else 'x_vs'}[{i}]",
+        assign=lambda t, v: f"{t} := {v};",
+        number=number,
+    )
     body = [
-        "(* target acceleration from the VS state at the start of the loop *)",
-        *load("x_vs"),
-        f"z_vs := (w - ({ex(eq.force)})) / p_m_vs;",
-        "(* third-order Runge-Kutta step of the VS (Figure 7.9); first stage at x_vs *)",
-        *derivatives("k1"),
+        "(* target acceleration from the VS state at the start of the loop, then the third-order",
+        "   Runge-Kutta step of the VS (Figure 7.9), generated from its definition *)",
+        *tick_statements(d, lang, "z_vs"),
     ]
-    body += [f"xs[{i}] := x_vs[{i}] + rk_a21 * dt * k1[{i}];" for i in range(n)]
-    body += stage("xs", "k2")
-    body += [f"xs[{i}] := x_vs[{i}] + rk_a32 * dt * k2[{i}];" for i in range(n)]
-    body += stage("xs", "k3")
-    body += [
-        f"x_vs[{i}] := x_vs[{i}] + dt * (rk_b1 * k1[{i}] + rk_b2 * k2[{i}] + rk_b3 * k3[{i}]);"
-        for i in range(n)
+    params = [
+        f"    p_{p} : {real} := {lit(v)};"
+        for p, v in zip(d.kernel_constants, vs.parameter_array(), strict=True)
     ]
+    rk = [f"    {k} : {real} := {lit(v)};" for k, v in coefficients.items()]
     local = [
         *[f"    {k} : ARRAY[0..{n - 1}] OF {real};" for k in ("x_vs", "xs", "k1", "k2", "k3")],
-        *[f"    s_{s} : {real};" for s in eq.states],
-        *[f"    t_{t} : {real};" for t in tnames],
+        *[f"    s_{s} : {real};" for s in d.states],
+        *[f"    t_{t} : {real};" for t, _ in d.intermediates],
         f"    u_z : {real};",
         f"    u_w : {real};",
     ]
@@ -150,8 +145,8 @@ def _mil_block(controller, vs, prefix, precision, real) -> str:
         variables=local,
     )
     return (
-        f"\n(* Figures 7.9-7.11 (corrected): {eq.kind} virtual system "
-        f"{getattr(vs, 'name', '') or ''} and the controller in one loop. *)\n"
+        f"\n(* Figures 7.9-7.11 (corrected): {d.kind} virtual system ({d.title}; {d.source}) "
+        f"and the controller in one loop.  States: {', '.join(d.states)}. *)\n"
         f"FUNCTION_BLOCK {prefix}_mil\nVAR_INPUT\n    a_g : {real};\n    w : {real};\nEND_VAR\n"
         f"VAR_OUTPUT\n    u : {real};\n    z_vs : {real};\nEND_VAR\n{cdecls}\n"
         + "\n".join(body)
@@ -178,8 +173,9 @@ def render_st(
         ``REAL`` (32-bit, as the RMC75E) or ``LREAL``.
     prefix : str
         IEC 61131-3 identifier prefixed to every POU name.
-    vs : VirtualSystem, optional
-        Built-in SD/LR/FP VS; adds the function block ``<prefix>_mil``.
+    vs : DefinedVS, optional
+        A VS of a defined type; adds the function block ``<prefix>_mil``, rendered
+        from the type's definition.
     design_summary : str
         One line describing the design (copied into the header comment).
     """
