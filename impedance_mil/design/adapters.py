@@ -9,6 +9,8 @@ from __future__ import annotations
 from ..errors import ConfigError
 from ..plant import LinearTable, TableParameters
 from ..virtual.base import VirtualSystem
+from ..virtual.registry import BUILTIN
+from ..virtual.system import DefinedVS
 from .forms import TableModel, VirtualModel
 from .linearize import DEFAULT_AMPLITUDE_IN, DEFAULT_ARTICLE_WEIGHT_LBF, METHODS, equivalent_linearization
 
@@ -64,6 +66,16 @@ def virtual_model(
     eq = None
     if lp.H_zfh is not None and linearization != "open-fh":
         eq = equivalent_linearization(vs, amplitude_in, linearization, article_weight_lbf)
+    definition = None
+    if isinstance(vs, DefinedVS) and BUILTIN.get(vs.kind, None) is None:
+        definition = vs.definition.to_dict()  # a user's type travels with the design
     return VirtualModel(
-        lp.H_zag, lp.H_zw, lp.H_zfh, kind=str(vs.kind), name=name, parameters=vs.to_dict(), equivalent=eq
+        lp.H_zag,
+        lp.H_zw,
+        lp.H_zfh,
+        kind=str(vs.kind),
+        name=name,
+        parameters=vs.to_dict(),
+        equivalent=eq,
+        definition=definition,
     )

@@ -411,6 +411,7 @@ def design_controller(
             "name": vs.name,
             "parameters": dict(vs.parameters),
             **({"linearization": vs.equivalent.to_dict()} if vs.equivalent is not None else {}),
+            **({"definition": dict(vs.definition)} if vs.definition is not None else {}),
         },
     )
     if emit_warnings:

@@ -100,6 +100,9 @@ class VirtualModel:
         (:mod:`impedance_mil.design.linearize`); when present it replaces
         ``H_zw`` in the constraints of the standardized form.  None: the
         linear part with ``f_h`` open is used.
+    definition : mapping or None
+        The VS type's definition (``VSDefinition.to_dict()``) when it is not a
+        built-in type, so that the design file alone rebuilds the exact VS.
     """
 
     H_zag: TransferFunction
@@ -109,6 +112,7 @@ class VirtualModel:
     name: str | None = None
     parameters: Mapping[str, Any] = field(default_factory=dict)
     equivalent: Any = None
+    definition: Mapping[str, Any] | None = None
 
     @classmethod
     def rigid(cls) -> VirtualModel:

@@ -22,7 +22,9 @@ import numpy as np
 from .. import __version__ as _pkg_version
 from ..errors import ConfigError
 from ..fileio import atomic_directory
+from ..virtual.definition import VSDefinition
 from ..virtual.files import from_parameters
+from ..virtual.vstype import VSType
 from .c import render_c
 from .discretize import DiscreteController, discretize
 from .identifiers import check_c_identifier, check_st_identifier
@@ -150,7 +152,17 @@ def designed_vs(design, requested=None, requested_name: str = "") -> ExportVS:
         )
     if not isinstance(entry, dict):
         raise ConfigError("design vs", "a table with kind and parameters", type(entry).__name__)
-    vs = from_parameters(entry.get("kind"), entry.get("parameters"), where="design vs.")
+    vstype = None
+    if entry.get("definition") is not None:  # a user's type, kept whole in the design file
+        try:
+            vstype = VSType(VSDefinition.from_dict(entry["definition"]))
+        except ConfigError as exc:
+            raise ConfigError(f"design vs.{exc.key}", exc.expected, exc.got) from None
+        if vstype.kind != entry.get("kind"):
+            raise ConfigError(
+                "design vs.kind", f"the kind of its definition, {vstype.kind!r}", entry.get("kind")
+            )
+    vs = from_parameters(entry.get("kind"), entry.get("parameters"), where="design vs.", vstype=vstype)
     name = str(entry.get("name") or vs.kind)
     if requested is not None and not _same_vs(vs, requested):
         raise ConfigError(

@@ -26,6 +26,7 @@ kinematics prescribed) and lumping a rigid article on the basemat.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import keyword
 import math
@@ -208,21 +209,13 @@ class VSDefinition:
         return tuple(s for s in self.states if s not in kin)
 
     def _used_names(self) -> frozenset[str]:
+        """Names the runtime equations (intermediates, rates, outputs) use directly; derived
+        values needed only to compute other derived values stay out of the kernel."""
         exprs = [e for _, e in self.intermediates] + list(self.rates.values())
         exprs += list(self.output_expressions.values())
-        if self.transition_length:
-            exprs.append(self.transition_length)
         used: set[str] = set()
         for e in exprs:
             used |= names(e)
-        # derived values used by used derived values
-        by_name = {d.name: d for d in self.derived}
-        stack = [n for n in used if n in by_name]
-        while stack:
-            for n in names(by_name[stack.pop()].expression):
-                if n in by_name and n not in used:
-                    used.add(n)
-                    stack.append(n)
         return frozenset(used)
 
     # ------------------------------------------------------------ evaluation
@@ -267,6 +260,53 @@ class VSDefinition:
     def fingerprint(self) -> str:
         """A digest of everything the definition says (two loads of one file compare equal)."""
         return self.cached("fingerprint", lambda: hashlib.sha256(repr(self).encode()).hexdigest())
+
+    def to_dict(self) -> dict[str, Any]:
+        """The definition as plain data (JSON-ready), e.g. to keep a user's type in a design file."""
+        out: dict[str, Any] = {}
+        for f in dataclasses.fields(self):
+            if f.name.startswith("_"):
+                continue
+            value = getattr(self, f.name)
+            if f.name in ("parameters", "derived", "rules"):
+                value = [dataclasses.asdict(x) for x in value]
+            elif isinstance(value, Mapping):
+                value = dict(value)
+            elif isinstance(value, tuple):
+                value = [list(x) if isinstance(x, tuple) else x for x in value]
+            out[f.name] = value
+        return out
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> VSDefinition:
+        """The inverse of :meth:`to_dict` (checked as any definition).
+
+        Raises
+        ------
+        ConfigError
+            Missing or unknown fields, or an inconsistent definition.
+        """
+        if not isinstance(data, Mapping):
+            raise ConfigError("definition", "a table of the VS definition's fields", type(data).__name__)
+        known = {f.name for f in dataclasses.fields(cls) if not f.name.startswith("_")}
+        for key in data:
+            if key not in known:
+                raise ConfigError(
+                    f"definition.{key}", "a field of a VS definition: " + ", ".join(sorted(known))
+                )
+        try:
+            kw = dict(data)
+            kw["parameters"] = tuple(Parameter(**p) for p in kw.get("parameters", ()))
+            kw["derived"] = tuple(Derived(**x) for x in kw.get("derived", ()))
+            kw["rules"] = tuple(Rule(**x) for x in kw.get("rules", ()))
+            kw["intermediates"] = tuple(tuple(x) for x in kw.get("intermediates", ()))
+            for key in ("states", "state_units", "nonlinear_inputs"):
+                kw[key] = tuple(kw.get(key, ()))
+            if kw.get("kinematics") is not None:
+                kw["kinematics"] = tuple(kw["kinematics"])
+            return cls(**kw)
+        except TypeError as exc:
+            raise ConfigError("definition", f"the fields of a VS definition ({exc})") from None
 
     def __getstate__(self) -> dict[str, Any]:
         # compiled kernels are per process: a pickled definition starts without them

@@ -34,7 +34,7 @@ class STBlock:
 
     Supports exactly the subset the generator emits: REAL/LREAL scalars and
     0-based arrays, ``:=`` assignments, + - * / with ST precedence (= Python's),
-    ABS, EXP, EXPT and the generated sign function.  Every value is a numpy
+    ABS, EXP, EXPT, SQRT, MIN, MAX, SEL, comparisons and the generated sign function.  Every value is a numpy
     scalar of ``dtype``, so REAL arithmetic is IEEE single precision.
     """
 
@@ -47,6 +47,10 @@ class STBlock:
             "EXP": np.exp,
             "abs": abs,
             "SIGN": lambda v: dtype(np.sign(v)),
+            "SEL": lambda g, in0, in1: in1 if g else in0,
+            "MIN": min,
+            "MAX": max,
+            "SQRT": np.sqrt,
         }
         self.dtype = dtype
         for name, n, init in re.findall(
@@ -80,10 +84,11 @@ def small():
     return discretize(h_uz, h_uw, LOOP_TIME_S, fc_hz=FC_HZ)
 
 
-def test_generated_st_parses_with_blark(small):
-    # FP uses every construct the generator emits (EXP, EXPT, ABS, sign, temps, arrays);
-    # SD and LR go through the same code paths (their MIL blocks run in the tests below).
-    text = render_st(small, "single", "imil", vs=presets.get("FP2"))["imil.st"]
+@pytest.mark.parametrize("preset", ["FP2", "TFP3"])
+def test_generated_st_parses_with_blark(small, preset):
+    # FP uses EXP, EXPT, ABS, sign, temps and arrays; TFP adds SEL and comparisons.  SD
+    # and LR go through the same code paths (their MIL blocks run in the tests below).
+    text = render_st(small, "single", "imil", vs=presets.get(preset))["imil.st"]
     result = blark.parse_source_code(text)
     assert result.exception is None
     names = re.findall(r"^(?:FUNCTION|FUNCTION_BLOCK) (\w+)", text, re.M)
@@ -119,7 +124,7 @@ def test_st_controller_computes_what_the_runtime_computes(discrete, record, prec
     np.testing.assert_array_equal(u_st, MILRuntime(discrete, precision=precision).run(z, w))
 
 
-@pytest.mark.parametrize("preset", ["SD2", "LR2", "FP2"])
+@pytest.mark.parametrize("preset", ["SD2", "LR2", "FP2", "TFP3"])
 def test_st_mil_block_matches_runtime(discrete, record, preset):
     # Double precision; numpy's exp/pow vs LLVM/libm may differ in the last bit -> 1e-12 of peak.
     vs = presets.get(preset)
