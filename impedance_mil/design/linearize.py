@@ -48,8 +48,8 @@ from ..errors import ConfigError
 from ..systems import TransferFunction
 from ..units import G0, TWO_PI
 from ..virtual.codegen import compiled
-from ..virtual.targets import TEST_ARTICLE_WEIGHT
 from ..virtual.kernels import OUT_FORCE
+from ..virtual.targets import TEST_ARTICLE_WEIGHT
 
 #: Linearization methods; ``open-fh`` is the linear part with ``f_h`` open (no linearization).
 METHODS = ("describing-function", "equivalent-viscous", "open-fh")
