@@ -57,27 +57,16 @@ def _spec(vs: str, sets: list[str] | None) -> VSSpec:
 
 @app.command("list")
 def list_presets(json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
-    """List the presets of Tables 9.1-9.3 with their design targets."""
-    rows = []
-    for name in presets.names():
-        design = presets.targets(name)
-        vs = design.build()
-        rows.append(
-            {
-                "name": name,
-                "kind": vs.kind,
-                **{k: v for k, v in design.__dict__.items()},
-                "k_s": vs.to_dict().get("k_s"),
-            }
-        )
+    """List the presets (Tables 9.1-9.3 and those of the other types) with their targets or parameters."""
+    rows = [presets.listing(name) for name in presets.names()]
     if json_out:
         print_json(rows)
         return
     for row in rows:
-        text = ", ".join(
-            f"{k}={row[k]:.4g}" for k in ("f", "zeta", "q_ratio", "mu_max", "mu_min", "T_s") if k in row
-        )
-        console.print(f"{row['name']:4s} {row['kind']}  {text}  k_s={row['k_s']:.1f} lbf/in")
+        keys = ("f", "zeta", "q_ratio", "mu_max", "mu_min", "T_s", "mu1", "mu2", "mu4", "R1", "R2")
+        text = ", ".join(f"{k}={row[k]:.4g}" for k in keys if k in row)
+        stiffness = f"  k_s={row['k_s']:.1f} lbf/in" if row.get("k_s") is not None else ""
+        console.print(f"{row['name']:4s} {row['kind']:3s}  {text}{stiffness}")
 
 
 @app.command("describe")

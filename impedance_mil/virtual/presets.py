@@ -89,6 +89,16 @@ def apply_overrides(design: Any, overrides: Mapping[str, Any], vstype: VSType | 
     return vs.replace(**for_model) if for_model else vs
 
 
+def listing(name: str) -> dict[str, Any]:
+    """One row of the preset listing: name, kind, the design targets (or the parameters of a
+    type without targets, in internal units) and the post-elastic stiffness ``k_s`` where the
+    type has one."""
+    vstype, design = _PRESETS[_key(name)]
+    vs = vstype.build_preset(_key(name))
+    values = dict(design) if isinstance(design, Mapping) else dataclasses.asdict(design)
+    return {"name": _key(name), "kind": vs.kind, **values, "k_s": vs.to_dict().get("k_s")}
+
+
 def get(name: str, **overrides: float) -> DefinedVS:
     """The virtual system of a preset, optionally with parameters changed.
 

@@ -20,7 +20,11 @@ def test_list(monkeypatch, capsys):
     code, out, _ = _imil(monkeypatch, capsys, "list", "--json")
     assert code == 0
     rows = json.loads(out)
-    assert [r["name"] for r in rows] == ["SD1", "SD2", "SD3", "LR1", "LR2", "LR3", "FP1", "FP2", "FP3"]
+    names = [r["name"] for r in rows]
+    assert names[:9] == ["SD1", "SD2", "SD3", "LR1", "LR2", "LR3", "FP1", "FP2", "FP3"]
+    assert names[9:] == ["TFP1", "TFP2", "TFP3"]
+    tfp = rows[9]
+    assert tfp["kind"] == "TFP" and tfp["mu2"] == 0.012 and tfp["k_s"] is None
 
 
 def test_describe_json_keys_as_in_tables(monkeypatch, capsys):
