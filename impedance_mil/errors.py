@@ -8,6 +8,8 @@ status 2; the library itself never prints or exits.
 
 from __future__ import annotations
 
+from enum import IntEnum
+
 
 class ImilError(Exception):
     """Base class of every error impedance-mil raises on purpose."""
@@ -56,19 +58,34 @@ class DesignWarning(UserWarning):
 class LimitTripped(ImilError, RuntimeError):
     """A simulated test tripped a safety limit and stopped, like a real controller.
 
-    Attributes
+    Parameters
     ----------
-    limit : str
-        Name of the limit that tripped (e.g. ``"stroke"``).
+    cause : TripCause
+        What tripped, a member of :class:`impedance_mil.lab.trips.TripCause` (an
+        ``IntEnum``; its name in lower case, ``TripCause.label``, names it in the message).
     time_s : float
         Time of the trip [s].
+    detail : str, optional
+        Appended to the message (e.g. ``"value 3.0012"``).
+    value : float, optional
+        The offending value, in the cause's unit (``cause.unit``).
+
+    Attributes
+    ----------
+    cause : TripCause
+    limit : str
+        The cause's name (e.g. ``"stroke"``).
+    time_s : float
+    value : float or None
     """
 
-    def __init__(self, limit: str, time_s: float, detail: str = ""):
-        self.limit = limit
+    def __init__(self, cause: IntEnum, time_s: float, detail: str = "", value: float | None = None):
+        self.cause = cause
+        self.limit = cause.name.lower()
         self.time_s = time_s
         self.detail = detail
-        msg = f"limit '{limit}' tripped at t = {time_s:.4f} s"
+        self.value = value
+        msg = f"limit '{self.limit}' tripped at t = {time_s:.4f} s"
         if detail:
             msg += f": {detail}"
         super().__init__(msg)

@@ -21,6 +21,7 @@ from typing import Any
 
 from ..lab.feedback import LEGACY_NAMES, Feedback
 from ..lab.runfile import legacy_value
+from ..lab.trips import TRIP_LIMIT_KEY, TripCause
 from .runmetrics import AGREEMENT_TOLERANCE
 from .summary import SummaryTable
 
@@ -345,27 +346,42 @@ def _fc_table_9_5(rows: SummaryTable) -> tuple:
     )
 
 
+def _trip_cause(row: Mapping[str, Any]) -> TripCause | None:
+    """The cause recorded with a run that tripped (column ``trip_limit``); None if none was recorded."""
+    label = row.get(TRIP_LIMIT_KEY)
+    if not isinstance(label, str) or not label:
+        return None
+    try:
+        return TripCause.from_label(label)
+    except ValueError:
+        return None
+
+
 def _stability(row: Mapping[str, Any]) -> str | None:
     """``"unstable"``, ``"stable"`` or None (inconclusive) for one MIL run.
 
     Unstable: a trip other than the stroke limit (velocity, force, valve, divergence),
     or table motion above 15 Hz stronger than :data:`HF_UNSTABLE` times the target's
     rms.  A stroke trip alone is inconclusive: the motion may simply need more than
-    the +-3 in of the table.
+    the +-3 in of the table.  The trip's cause is the recorded :class:`TripCause`,
+    never the error message; an aborted run without a recorded cause (a store
+    written before causes were recorded) is inconclusive too.
     """
     hf = row.get("hf_ratio")
     if isinstance(hf, (int, float)) and hf > HF_UNSTABLE:
         return "unstable"
     if row.get("status") == "aborted":
-        return None if "'stroke'" in str(row.get("error", "")) else "unstable"
+        cause = _trip_cause(row)
+        return None if cause is None or cause == TripCause.STROKE else "unstable"
     return "stable" if row.get("status") == "ok" else None
 
 
 def _instability_threshold(rows: SummaryTable) -> tuple:
-    verdicts = {}
+    verdicts, by_ratio = {}, {}
     for row in rows.where(vs="SD2").rows:
         if isinstance(row.get("m_vs_ratio"), float):
             verdicts[row["m_vs_ratio"]] = _stability(row)
+            by_ratio[row["m_vs_ratio"]] = row
     if not verdicts:
         return NOT_RUN, "no SD2 basemat-mass run finished", (), "", "", False
     unstable = sorted(r for r, v in verdicts.items() if v == "unstable")
@@ -379,8 +395,14 @@ def _instability_threshold(rows: SummaryTable) -> tuple:
         + "; stable at "
         + (", ".join(f"{r:g}" for r in stable) or "none")
     )
-    if unknown:
-        text += "; inconclusive (stroke trip) at " + ", ".join(f"{r:g}" for r in unknown)
+    stroke = [r for r in unknown if _trip_cause(by_ratio[r]) == TripCause.STROKE]
+    other = [r for r in unknown if r not in stroke]
+    if stroke:
+        text += "; inconclusive (stroke trip) at " + ", ".join(f"{r:g}" for r in stroke)
+    if other:
+        text += "; inconclusive (no trip cause recorded, or not finished) at " + ", ".join(
+            f"{r:g}" for r in other
+        )
     x = tuple(sorted(r for r, v in verdicts.items() if v is not None))
     curves = (
         Curve("toolkit: 1 = unstable", x, tuple(float(verdicts[r] == "unstable") for r in x)),

@@ -29,6 +29,7 @@ from typing import Any
 
 from ..errors import LimitTripped
 from ..fileio import atomic_path, file_sha256
+from ..lab.trips import TRIP_LIMIT_KEY
 from .executors import RunExecutor, make_executor
 from .kinds import get_kind
 from .spec import CampaignSpec, RunSpec
@@ -168,7 +169,7 @@ def execute_run(
         outcome.update(
             status="aborted",
             error=_one_line(exc),
-            metrics={"aborted": True, "abort_time_s": exc.time_s},
+            metrics={"aborted": True, "abort_time_s": exc.time_s, TRIP_LIMIT_KEY: exc.limit},
             hdf5="",
             sha256="",
         )

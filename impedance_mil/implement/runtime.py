@@ -14,23 +14,25 @@ system as in the RMC programs of Figures 7.9-7.11:
 
 Precision: ``"single"`` stores every array in float32 and the controller
 arithmetic is float32 throughout (bit-identical to the generated C with
-``float``); ``"double"`` uses float64.  The VS is integrated by the virtual
-package's kernels on state arrays of the same dtype.  No step allocates.
+``float``); ``"double"`` uses float64.  The VS enters the step as its tick
+(:mod:`impedance_mil.implement.vs_tick`: z_vs, then one RK3 step), compiled
+for state arrays of the same dtype; the step itself knows no VS kinds.  No
+step allocates.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numba
 import numpy as np
 
 from ..errors import ConfigError
-from ..virtual.codegen import compiled
-from ..virtual.kernels import no_vs_tick32, no_vs_tick64
 from ..virtual.system import DefinedVS
 from .discretize import DiscreteController
 from .kernels import controller_run, controller_step, controller_step_parts
+from .vs_tick import VSArrays, no_vs_tick, vs_tick_function
 
 #: Precisions understood by the runtime and the generators, and their dtypes.
 PRECISIONS = {"single": np.float32, "double": np.float64}
@@ -78,55 +80,70 @@ class MILTrace:
     z_vs: np.ndarray
 
 
+class ControllerArrays(NamedTuple):
+    """The controller's arrays for the compiled kernels, in the runtime dtype.
+
+    ``m_z``, ``m_w``: system matrices ``[[A - I, B], [C, D]]`` of H_uz and H_uw;
+    ``s_z``, ``s_w``: states and compensations (2, n), updated in place;
+    ``tmp``: scratch (>= max(n_z, n_w, 1)); ``compensated``: Kahan accumulation
+    (:mod:`impedance_mil.implement.kernels`).
+    """
+
+    m_z: np.ndarray
+    m_w: np.ndarray
+    s_z: np.ndarray
+    s_w: np.ndarray
+    tmp: np.ndarray
+    compensated: bool
+
+
 @numba.njit(cache=True, nogil=True, inline="always")
-def mil_step_kernel(m_z, m_w, s_z, s_w, tmp, compensated, vs_fns, params, x_vs, work, dt, a_g, w, out):
-    """One MIL loop of Figure 7.9 (corrected): VS output and RK3 step, then the controller.
+def mil_step_kernel(ctrl, vs_tick, vs, dt, a_g, w):
+    """One MIL loop of Figure 7.9 (corrected): the VS tick, then the controller.
 
     Parameters
     ----------
-    m_z, m_w, s_z, s_w, tmp, compensated
-        Controller arrays, see :func:`impedance_mil.implement.kernels.controller_step`.
-    vs_fns : tuple
-        ``(tick,)``: the VS's tick kernel in the arrays' dtype (generated from its
-        definition, :mod:`impedance_mil.virtual.codegen`); in a plain tuple so that
-        numba types it as a first-class function and compiles this kernel once.
-    params, x_vs, work : ndarray
-        VS parameters, state (updated in place) and RK3 work space (4*n).
+    ctrl : ControllerArrays
+        The controller (states updated in place).
+    vs_tick : VSTick
+        The VS slot (:mod:`impedance_mil.implement.vs_tick`): z_vs from the
+        state at the start of the loop, then one RK3 step of the state.
+    vs : VSArrays
+        The VS parameters, state (updated in place) and RK3 work space.
     dt : float
         Loop time [s].
     a_g : float
         Ground acceleration [in/s**2].
     w : float
         Measured force [lbf].
-    out : ndarray
-        Receives ``[u [in], z_vs [in/s**2], u_w [in]]`` (``u_w``, the feedback
-        part of ``u``, for the virtual lab's records).
+
+    Returns
+    -------
+    tuple of float
+        ``(u [in], z_vs [in/s**2], u_w [in])`` in the controller's dtype
+        (``u_w``, the feedback part of ``u``, for the virtual lab's records).
     """
+    # Inputs are rounded to the controller's dtype through its scratch vector, so
+    # that the tick receives exactly the arguments of its signature.
+    tmp = ctrl.tmp
     tmp[0] = a_g
     ag = tmp[0]
     tmp[0] = w
     wv = tmp[0]
     tmp[0] = dt
     h = tmp[0]
-    tick = vs_fns[0]
-    z = tick(params, x_vs, ag, wv, h, work)
-    u, u_w = controller_step_parts(m_z, m_w, s_z, s_w, tmp, z, wv, compensated)
-    out[0] = u
-    out[1] = z
-    out[2] = u_w
+    z = vs_tick(vs.params, vs.x, ag, wv, h, vs.work)
+    tmp[0] = z
+    z = tmp[0]
+    u, u_w = controller_step_parts(ctrl.m_z, ctrl.m_w, ctrl.s_z, ctrl.s_w, tmp, z, wv, ctrl.compensated)
+    return u, z, u_w
 
 
 @numba.njit(cache=True, nogil=True)
-def mil_run_kernel(
-    m_z, m_w, s_z, s_w, tmp, compensated, vs_fns, params, x_vs, work, dt, a_g, w, u, z_vs, out
-):
-    """:func:`mil_step_kernel` over whole records; writes ``u`` and ``z_vs``."""
+def mil_run_kernel(ctrl, vs_tick, vs, dt, a_g, w, u, z_vs):
+    """:func:`mil_step_kernel` over whole records ``a_g``, ``w``; writes ``u`` and ``z_vs``."""
     for k in range(a_g.shape[0]):
-        mil_step_kernel(
-            m_z, m_w, s_z, s_w, tmp, compensated, vs_fns, params, x_vs, work, dt, a_g[k], w[k], out
-        )
-        u[k] = out[0]
-        z_vs[k] = out[1]
+        u[k], z_vs[k], _ = mil_step_kernel(ctrl, vs_tick, vs, dt, a_g[k], w[k])
 
 
 class MILRuntime:
@@ -137,12 +154,11 @@ class MILRuntime:
     controller : DiscreteController
         From :func:`~impedance_mil.implement.discretize`.
     vs : VirtualSystem, optional
-        The virtual system; needed by :meth:`mil_step`.  A system of a defined
-        type (:class:`~impedance_mil.virtual.DefinedVS`: SD, LR, FP, TFP or a
-        user's type) is stepped by the tick kernel generated from its
-        definition; one written as Python methods
-        (:class:`~impedance_mil.virtual.PythonVS`) through those methods (same
-        sequence, ~100x slower, and not renderable by the code generators).
+        The virtual system; needed by :meth:`mil_step`.  A VS of a defined type
+        (:class:`~impedance_mil.virtual.system.DefinedVS`, built-in or the user's
+        own definition) is stepped by its generated kernel; one written as Python
+        methods (:class:`~impedance_mil.virtual.base.PythonVS`) through those methods
+        (same sequence, ~100x slower, and not renderable by the code generators).
     precision : {"single", "double"}
         Arithmetic of the controller (float32 as on the RMC75E, or float64).
     compensated : bool
@@ -155,6 +171,12 @@ class MILRuntime:
         System matrices ``[[A - I, B], [C, D]]`` in the runtime dtype.
     s_z, s_w : ndarray
         States and compensations, shape (2, n).
+    controller_arrays : ControllerArrays
+        The controller's arrays (the same arrays) as the compiled kernels take them.
+    vs_tick : VSTick
+        The VS slot of the compiled MIL step (a placeholder without a compiled VS).
+    vs_arrays : VSArrays
+        The VS parameters, state and RK3 work space, in the runtime dtype.
 
     Examples
     --------
@@ -176,14 +198,18 @@ class MILRuntime:
         self.tmp = np.zeros(max(controller.z.n_states, controller.w.n_states, 1), self.dtype)
         self.vs = vs
         n_vs = vs.n_states if vs is not None else 0
-        defined = isinstance(vs, DefinedVS)
-        no_vs = no_vs_tick32 if self.dtype == np.float32 else no_vs_tick64
-        #: ``(tick,)`` of the VS in the runtime dtype (a placeholder without a compiled VS).
-        self.vs_fns = (compiled(vs.definition).tick(self.dtype) if defined else no_vs,)
-        self.vs_params = vs.parameter_array().astype(self.dtype) if defined else np.zeros(0, self.dtype)
+        self.vs_params = (
+            vs.parameter_array().astype(self.dtype) if isinstance(vs, DefinedVS) else np.zeros(0, self.dtype)
+        )
         self.x_vs = np.zeros(n_vs, float if self.python_vs else self.dtype)
         self.work = np.zeros(4 * max(n_vs, 1), self.dtype)
-        self._out = np.zeros(3, self.dtype)
+        self.vs_tick = vs_tick_function(vs, self.dtype) if isinstance(vs, DefinedVS) else no_vs_tick(self.dtype)
+        self.controller_arrays = ControllerArrays(
+            self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, self.compensated
+        )
+        self.vs_arrays = VSArrays(
+            self.vs_params, self.x_vs if not self.python_vs else np.zeros(0, self.dtype), self.work
+        )
         self.reset()
 
     @property
@@ -225,23 +251,10 @@ class MILRuntime:
             raise ConfigError("vs", "a virtual system for mil_step (MILRuntime(controller, vs=...))")
         if self.python_vs:
             return self._python_mil_step(float(a_g), float(w))
-        mil_step_kernel(
-            self.m_z,
-            self.m_w,
-            self.s_z,
-            self.s_w,
-            self.tmp,
-            self.compensated,
-            self.vs_fns,
-            self.vs_params,
-            self.x_vs,
-            self.work,
-            self.loop_time_s,
-            float(a_g),
-            float(w),
-            self._out,
+        u, z_vs, u_w = mil_step_kernel(
+            self.controller_arrays, self.vs_tick, self.vs_arrays, self.loop_time_s, float(a_g), float(w)
         )
-        return MILStep(float(self._out[0]), float(self._out[1]), float(self._out[2]))
+        return MILStep(float(u), float(z_vs), float(u_w))
 
     def _python_mil_step(self, a_g: float, w: float) -> MILStep:
         """:meth:`mil_step` for a user-defined VS: the same sequence as the kernel, in Python.
@@ -274,24 +287,7 @@ class MILRuntime:
                 step = self._python_mil_step(float(aa[k]), float(ww[k]))
                 u[k], z[k] = step.u, step.z_vs
             return MILTrace(u, z)
-        mil_run_kernel(
-            self.m_z,
-            self.m_w,
-            self.s_z,
-            self.s_w,
-            self.tmp,
-            self.compensated,
-            self.vs_fns,
-            self.vs_params,
-            self.x_vs,
-            self.work,
-            self.loop_time_s,
-            aa,
-            ww,
-            u,
-            z,
-            self._out,
-        )
+        mil_run_kernel(self.controller_arrays, self.vs_tick, self.vs_arrays, self.loop_time_s, aa, ww, u, z)
         return MILTrace(u, z)
 
     def _records(self, a, b) -> tuple[np.ndarray, np.ndarray]:

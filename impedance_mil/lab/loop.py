@@ -1,9 +1,13 @@
 """Running the sampled-data loop: the compiled path and the Python plant-interface path.
 
-:func:`simulate` builds the arrays of the compiled loop
-(:func:`impedance_mil.lab.kernels.run_loop`) from value objects and returns a
-:class:`~impedance_mil.lab.results.RunResult`.  :func:`simulate_interface`
-runs the same tick sequence in Python against any
+:func:`simulate` builds the named structures of the compiled loop
+(:data:`impedance_mil.lab.tick.run_loop`: a
+:class:`~impedance_mil.lab.structures.VirtualPlant`, a
+:class:`~impedance_mil.lab.structures.LoopControl`, the VS tick and the
+:class:`~impedance_mil.lab.structures.Records`) from value objects and
+returns a :class:`~impedance_mil.lab.results.RunResult`.
+:func:`simulate_interface` runs the same tick sequence
+(:func:`impedance_mil.lab.tick.run_ticks`, in Python) against any
 :class:`~impedance_mil.lab.plant_interface.PlantInterface` (the virtual table,
 the solve_ivp reference of :mod:`impedance_mil.lab.reference`, or a real
 controller link); with :class:`VirtualTable` both give the same trajectories.
@@ -20,14 +24,27 @@ from dataclasses import asdict, replace
 
 import numpy as np
 
-from ..errors import ConfigError, LimitTripped
+from ..errors import ConfigError
+from ..implement.runtime import ControllerArrays
+from ..implement.vs_tick import VSArrays, no_vs_tick
 from ..plant.nonlinear import N_TABLE_STATES
-from ..virtual.kernels import no_vs_tick64
-from .kernels import CHANNELS, FEEDBACK_FE, FEEDBACK_LC, MODE_MIL, MODE_OPEN, MODE_TRACK, TRIP_NAMES, run_loop
 from .plant_interface import PlantInterface, VirtualTable, specimen_arrays
-from .results import RunResult, Trip
+from .results import RunResult
 from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
+from .structures import (
+    FEEDBACK_FE,
+    FEEDBACK_LC,
+    HELD_STATE,
+    MODE_MIL,
+    MODE_OPEN,
+    MODE_TRACK,
+    LoopControl,
+    Records,
+    VirtualPlant,
+)
 from .substeps import resolve_substeps
+from .tick import run_loop, run_ticks
+from .trips import Trip, TripCause
 
 _FEEDBACK = {"lc": FEEDBACK_LC, "fe": FEEDBACK_FE}
 _MODES = {MODE_OPEN: "open", MODE_TRACK: "track", MODE_MIL: "mil"}
@@ -88,24 +105,19 @@ def _config(
     return cfg
 
 
-def _controller_arrays(runtime):
+def _controller_arrays(runtime) -> tuple:
+    """``(ControllerArrays, VS tick, VSArrays)`` of the runtime, reset; float64 placeholders without one."""
     if runtime is None:
         z = np.zeros((1, 1))
         s = np.zeros((2, 0))
-        return (z, z, s, s.copy(), np.zeros(1), False, (no_vs_tick64,), np.zeros(0), np.zeros(0), np.zeros(1))
+        placeholder = ControllerArrays(z, z, s, s.copy(), np.zeros(1), False)
+        return placeholder, no_vs_tick(np.float64), VSArrays(np.zeros(0), np.zeros(0), np.zeros(1))
     runtime.reset()
-    return (
-        runtime.m_z,
-        runtime.m_w,
-        runtime.s_z,
-        runtime.s_w,
-        runtime.tmp,
-        runtime.compensated,
-        runtime.vs_fns,
-        runtime.vs_params,
-        runtime.x_vs,
-        runtime.work,
-    )
+    return runtime.controller_arrays, runtime.vs_tick, runtime.vs_arrays
+
+
+def _trip(done: int, cause: TripCause, value: float, loop_time: float) -> Trip | None:
+    return None if cause == TripCause.NONE else Trip(cause, done * loop_time, float(value))
 
 
 def simulate(
@@ -172,7 +184,7 @@ def simulate(
     if mode == MODE_MIL and getattr(runtime, "python_vs", False):
         # A user-defined VS has no kernel: the same ticks through the plant interface
         # (VirtualTable calls the compiled plant kernels; trajectories are the same).
-        plant = VirtualTable(
+        virtual_table = VirtualTable(
             table,
             specimen=specimen,
             sensors=sensors,
@@ -182,7 +194,7 @@ def simulate(
             feedback=feedback,
             quantize=quantize,
         )
-        result = simulate_interface(plant, a_g=ag, runtime=runtime, feedback=feedback)
+        result = simulate_interface(virtual_table, a_g=ag, runtime=runtime, feedback=feedback)
         cfg = _config(
             table,
             specimen,
@@ -196,50 +208,37 @@ def simulate(
             {**(config or {}), "path": "python-vs"},
         )
         return replace(result, config=cfg)
-    # Writable copies (see _history): one compiled loop per controller precision.
-    spec = tuple(np.array(a) if isinstance(a, np.ndarray) else a for a in specimen_arrays(specimen))
-    n_y = N_TABLE_STATES + spec[3].size
+    n = ag.size
+    spec = specimen_arrays(specimen)
+    n_y = N_TABLE_STATES + spec.B.size
     y = np.zeros(n_y)
     y[:N_TABLE_STATES] = table.equilibrium_state()
-    n = ag.size
-    noise = draw_noise(np.random.default_rng(seed), sensors, n)
-    ctrl = _controller_arrays(runtime)
-    rec = np.empty((len(CHANNELS), n))
-    vs_rec = np.zeros((n, ctrl[8].size))
-    status = np.zeros(3)
-    # The compiled loop allocates nothing (it runs without reference counting): every
-    # scratch array is made here and outlives the call.
-    run_loop(
-        mode,
-        _FEEDBACK[feedback],
-        table.parameter_array(),
-        nsub,
-        y,
-        *spec,
-        sens,
-        noise,
-        limits.array(table),
-        ag,
-        cmd,
-        *ctrl,
-        rec,
-        vs_rec,
-        np.zeros((5, n_y)),
-        np.zeros(7 + noise.shape[1]),
-        np.zeros(3, dtype=ctrl[4].dtype),
-        status,
+    plant = VirtualPlant(
+        table=table.parameter_array(),
+        y=y,
+        specimen=spec,
+        sensors=sens,
+        limits=limits.kernel_values(table),
+        substeps=nsub,
+        noise=draw_noise(np.random.default_rng(seed), sensors, n),
+        work=np.zeros((5, n_y)),
+        readings=np.zeros(sensors.n_channels),
+        held=np.zeros(1, HELD_STATE),
     )
-    done = int(status[0])
-    trip = None
-    if status[1]:
-        trip = Trip(TRIP_NAMES[int(status[1])], done * table.loop_time, float(status[2]))
+    ctrl, vs_tick, vs = _controller_arrays(runtime)
+    control = LoopControl(mode, _FEEDBACK[feedback], ag, cmd, float(table.loop_time), ctrl, vs)
+    log = Records.allocate(n, vs.x.size)
+    # The compiled loop allocates nothing (it runs without reference counting): every
+    # structure is made here and outlives the call.
+    done, cause, value = run_loop(plant, control, vs_tick, log)
+    channels, vs_states = log.up_to(done)
     return RunResult(
-        channels={name: rec[i, :done] for i, name in enumerate(CHANNELS)},
-        vs_states=vs_rec[:done].astype(float),
+        channels=channels,
+        vs_states=vs_states,
         vs_state_names=_vs_names(runtime),
         mode=_MODES[mode],
         loop_time=table.loop_time,
-        trip=trip,
+        trip=_trip(done, cause, value, table.loop_time),
         config=_config(table, specimen, runtime, sensors, limits, sub_cfg, seed, feedback, quantize, config),
     )
 
@@ -259,53 +258,17 @@ def simulate_interface(
     if runtime is not None:
         runtime.reset()
     plant.reset()
-    rows, vs_rows, trip = [], [], None
-    for k in range(ag.size):
-        try:
-            m = plant.read_sensors()
-        except LimitTripped as exc:
-            trip = Trip(exc.limit, exc.time_s, float(getattr(plant, "trip_value", np.nan)))
-            break
-        w_used = m.w_lc if feedback == "lc" else m.w_fe
-        vs_rows.append(np.array(runtime.x_vs, dtype=float) if runtime is not None else [])
-        u_w = 0.0
-        z_vs = 0.0
-        if mode == MODE_OPEN:
-            u = cmd[k]
-        else:
-            if mode == MODE_TRACK:
-                (u, u_w), z_vs = runtime.step_parts(ag[k], w_used), ag[k]
-            else:
-                out = runtime.mil_step(ag[k], w_used)
-                u, z_vs, u_w = out.u, out.z_vs, out.u_w
-        plant.write_command(u)
-        truth = plant.truth() if hasattr(plant, "truth") else {}
-        row = dict.fromkeys(CHANNELS, np.nan)
-        row.update(truth)
-        row.update(
-            t=m.time_s,
-            a_g=ag[k],
-            z_vs=z_vs,
-            u=u,
-            u_z=u - u_w,
-            u_w=u_w,
-            w_lc=m.w_lc,
-            w_fe=m.w_fe,
-            w_used=w_used,
-            x_meas=m.x,
-            dp_meas=m.dp,
-            z_meas=m.z,
-        )
-        rows.append([row[c] for c in CHANNELS])
-        plant.advance()
-    rec = np.array(rows, dtype=float).reshape(-1, len(CHANNELS))
+    control = LoopControl(mode, _FEEDBACK[feedback], ag, cmd, float(plant.loop_time), runtime, None)
+    log = Records.allocate(ag.size, 0 if runtime is None else len(runtime.x_vs))
+    done, cause, value = run_ticks(plant, control, None, log)
+    channels, vs_states = log.up_to(done)
     return RunResult(
-        channels={name: rec[:, i].copy() for i, name in enumerate(CHANNELS)},
-        vs_states=np.array(vs_rows, dtype=float).reshape(len(rows), -1),
+        channels={name: arr.copy() for name, arr in channels.items()},
+        vs_states=vs_states.copy(),
         vs_state_names=_vs_names(runtime),
         mode=_MODES[mode],
         loop_time=plant.loop_time,
-        trip=trip,
+        trip=_trip(done, cause, value, plant.loop_time),
         config={"plant": type(plant).__name__, "feedback": feedback},
     )
 

@@ -5,65 +5,26 @@ A MIL program sees the table through four calls (the RMC75E's axis, Section
 loop time pass.  :class:`PlantInterface` is that contract; a link to a real
 controller can implement it, and :class:`VirtualTable` implements it with the
 nonlinear table of :mod:`impedance_mil.plant.nonlinear`, calling the same
-compiled functions (``plant_sense``, ``hydraulic_step``, ``plant_advance``,
-``check_limits``) as the compiled loop of :mod:`impedance_mil.lab.kernels`.
+compiled kernels as the stages of the compiled loop
+(:func:`~impedance_mil.lab.kernels.sense_and_check`, ``hydraulic_command``,
+``plant_truth`` and ``plant_advance`` of :mod:`impedance_mil.lab.kernels`),
+on the arrays of the same :class:`~impedance_mil.lab.structures.VirtualPlant`.
+The order in which a loop calls them is :func:`impedance_mil.lab.tick.sequence`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from ..errors import LimitTripped
-from ..plant.nonlinear import IX_P1, IX_P2, IX_S, IX_V, IX_X, N_TABLE_STATES
-from .kernels import (
-    M_DP,
-    M_W,
-    M_WFE,
-    M_WLC,
-    M_X,
-    M_Z,
-    M_ZM,
-    SPEC_BANK,
-    SPEC_CSR,
-    TRIP_NAMES,
-    check_limits,
-    hydraulic_step,
-    plant_advance,
-    plant_sense,
-)
+from ..plant.nonlinear import N_TABLE_STATES
+from . import kernels
+from .kernels import SPEC_BANK, SPEC_CSR, plant_advance
 from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
+from .structures import HELD_STATE, Measurements, SpecimenArrays, VirtualPlant
 from .substeps import resolve_substeps, specimen_state_space
-
-
-@dataclass(frozen=True)
-class Measurements:
-    """Sensor readings of one loop.
-
-    Attributes
-    ----------
-    time_s : float
-        Time of the readings [s].
-    x : float
-        Table displacement (string potentiometer) [in].
-    dp : float
-        Differential pressure [psi].
-    z : float
-        Table acceleration [in/s^2].
-    w_lc : float
-        Force of the test article on the table, reaction load cells [lbf].
-    w_fe : float
-        Same force from equilibrium, ``m_st z - A_p dP`` [lbf] (Section 8.3.2).
-    """
-
-    time_s: float
-    x: float
-    dp: float
-    z: float
-    w_lc: float
-    w_fe: float
 
 
 @runtime_checkable
@@ -89,8 +50,8 @@ class PlantInterface(Protocol):
         """Let one loop time pass."""
 
 
-def specimen_arrays(specimen, oscillator_bank: bool = True) -> tuple:
-    """Kernel arrays ``(A_val, A_col, A_ptr, B, C, D, kind, osc_k, osc_c)`` of a specimen.
+def specimen_arrays(specimen, oscillator_bank: bool = True) -> SpecimenArrays:
+    """The :class:`~impedance_mil.lab.structures.SpecimenArrays` of a specimen (writable copies).
 
     Input z [in/s^2], output w [lbf].  ``A`` is stored in compressed-row form
     (most specimens are sparse: a vessel's 8x8 matrix has 12 nonzeros);
@@ -100,7 +61,9 @@ def specimen_arrays(specimen, oscillator_bank: bool = True) -> tuple:
     a vessel, a rigid mass, a single-DOF article) and ``oscillator_bank`` is
     true, ``kind`` is ``SPEC_BANK`` and ``osc_k``, ``osc_c`` hold its
     coefficients; otherwise ``kind`` is ``SPEC_CSR`` (``oscillator_bank=False``
-    forces the general path, for comparisons).
+    forces the general path, for comparisons).  Every array is a writable
+    copy: numba compiles the loop once per argument type, and a read-only
+    array (a specimen's cached matrices) is another type.
     """
     if specimen is None:
         A, B, C, D = np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
@@ -110,16 +73,16 @@ def specimen_arrays(specimen, oscillator_bank: bool = True) -> tuple:
     ptr = np.searchsorted(rows, np.arange(A.shape[0] + 1)).astype(np.int64)
     bank = oscillator_bank_of(A, B) if oscillator_bank else None
     kind, osc_k, osc_c = (SPEC_CSR, np.zeros(0), np.zeros(0)) if bank is None else (SPEC_BANK, *bank)
-    return (
-        np.ascontiguousarray(A[rows, cols]),
-        cols.astype(np.int64),
-        ptr,
-        np.ascontiguousarray(B),
-        np.ascontiguousarray(C),
-        D,
-        kind,
-        osc_k,
-        osc_c,
+    return SpecimenArrays(
+        A_val=np.array(A[rows, cols]),
+        A_col=cols.astype(np.int64),
+        A_ptr=ptr,
+        B=np.array(B, dtype=float),
+        C=np.array(C, dtype=float),
+        D=float(D),
+        kind=kind,
+        osc_k=np.array(osc_k),
+        osc_c=np.array(osc_c),
     )
 
 
@@ -181,73 +144,81 @@ class VirtualTable:
     ):
         self.table = table
         self.loop_time = table.loop_time
-        self._pa = table.parameter_array()
-        self._spec = specimen_arrays(specimen)
-        self._C, self._D = self._spec[4], self._spec[5]
         self.sensors = sensors or default_sensors()
-        self._sens = sensor_arrays(self.sensors, feedback, quantize)
-        self._readings = np.zeros(self.sensors.n_channels)
-        self._lim = (limits or SafetyLimits()).array(table)
         self.substeps = resolve_substeps(substeps, table, specimen)[0]
         self.seed = seed
-        n = N_TABLE_STATES + self._C.size
-        self.y = np.zeros(n)
-        self._work = np.zeros((5, n))
-        self._meas = np.zeros(7)
+        spec = specimen_arrays(specimen)
+        n = N_TABLE_STATES + spec.B.size
+        #: The compiled stages' view of this table: one row of noise, drawn per loop.
+        self.plant = VirtualPlant(
+            table=table.parameter_array(),
+            y=np.zeros(n),
+            specimen=spec,
+            sensors=sensor_arrays(self.sensors, feedback, quantize),
+            limits=(limits or SafetyLimits()).kernel_values(table),
+            substeps=self.substeps,
+            noise=np.zeros((1, self.sensors.n_channels), np.float32),
+            work=np.zeros((5, n)),
+            readings=np.zeros(self.sensors.n_channels),
+            held=np.zeros(1, HELD_STATE),
+        )
         self.reset()
+
+    @property
+    def y(self) -> np.ndarray:
+        """Plant state ``[table states (6), specimen states]`` (advanced in place)."""
+        return self.plant.y
 
     def reset(self) -> None:
         self.y[:] = 0.0
         self.y[:N_TABLE_STATES] = self.table.equilibrium_state()
+        self.plant.held[:] = np.zeros(1, HELD_STATE)
         self._rng = np.random.default_rng(self.seed)
         self._tick = 0
-        self._x_prev = 0.0
-        self._dp_prev = 0.0
-        self._sat = 0
-        self.valve_command = 0.0
-        self.current = 0.0
+        self._read: tuple | None = None
         self.trip_value = float("nan")
-        self._sense()
-
-    def _sense(self) -> None:
-        noise = draw_noise(self._rng, self.sensors)
-        plant_sense(self._pa, self.y, self._C, self._D, *self._sens, noise, self._readings, self._meas)
 
     @property
     def time_s(self) -> float:
         return self._tick * self.loop_time
 
+    @property
+    def valve_command(self) -> float:
+        """Valve command of the current loop [V]."""
+        return float(self.plant.held[0]["u_v"])
+
+    @property
+    def current(self) -> float:
+        """Valve current of the current loop [mA]."""
+        return float(self.plant.held[0]["current"])
+
+    def _sense(self) -> tuple:
+        """This loop's ``(Measurements, TripCause, value)``, sensed once per loop."""
+        if self._read is None:
+            self.plant.noise[0] = draw_noise(self._rng, self.sensors)
+            self._read = kernels.sense_and_check(self.plant, self.plant.noise[0], self.time_s)
+        return self._read
+
     def read_sensors(self) -> Measurements:
-        code, value = check_limits(self._pa, self._lim, self.y, self._meas, self.valve_command, self._sat)
-        if code:
+        m, cause, value = self._sense()
+        if cause:
             self.trip_value = float(value)
-            raise LimitTripped(TRIP_NAMES[code], self.time_s, f"value {value:.6g}")
-        m = self._meas
-        return Measurements(self.time_s, m[M_X], m[M_DP], m[M_ZM], m[M_WLC], m[M_WFE])
+            raise LimitTripped(cause, self.time_s, f"value {value:.6g}", value=float(value))
+        return m
 
     def write_command(self, u: float) -> None:
-        self.valve_command, self._sat, self.current = hydraulic_step(
-            self._pa, float(u), self._x_prev, self._dp_prev, self._sat
-        )
-        self._x_prev, self._dp_prev = self._meas[M_X], self._meas[M_DP]
+        kernels.hydraulic_command(self.plant.table, self.plant.held, self._sense()[0], float(u))
 
     def advance(self) -> None:
-        plant_advance(self._pa, self.y, *self._spec, self.current, self.loop_time, self.substeps, self._work)
+        p = self.plant
+        plant_advance(p.table, p.y, *p.specimen, self.current, self.loop_time, self.substeps, p.work)
+        self._step()
+
+    def _step(self) -> None:
+        """The clock moves on: the next loop senses anew."""
         self._tick += 1
-        self._sense()
+        self._read = None
 
     def truth(self) -> dict:
         """True (unmeasured) plant quantities of the current loop."""
-        y = self.y
-        return {
-            "x": y[IX_X],
-            "v": y[IX_V],
-            "z": self._meas[M_Z],
-            "dp": y[IX_P1] - y[IX_P2],
-            "p1": y[IX_P1],
-            "p2": y[IX_P2],
-            "spool": y[IX_S],
-            "w": self._meas[M_W],
-            "u_v": self.valve_command,
-            "current": self.current,
-        }
+        return kernels.plant_truth(self.plant.y, self.plant.held)._asdict()

@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.integrate
 
-from .kernels import coupled_derivative
 from .plant_interface import VirtualTable
+from .stepping import coupled_derivative
 
 
 class ScipyTable(VirtualTable):
@@ -53,7 +53,7 @@ class ScipyTable(VirtualTable):
 
     def _rhs(self, t, y):
         out = np.empty_like(y)
-        coupled_derivative(self._pa, y, *self._spec, self.current, out)
+        coupled_derivative(self.plant.table, y, *self.plant.specimen, self.current, out)
         return out
 
     def advance(self) -> None:
@@ -62,5 +62,4 @@ class ScipyTable(VirtualTable):
             self._rhs, (t0, t0 + self.loop_time), self.y, method="RK45", rtol=self.rtol, atol=self.atol
         )
         self.y[:] = sol.y[:, -1]
-        self._tick += 1
-        self._sense()
+        self._step()

@@ -1,9 +1,11 @@
 """Results of a virtual-lab run and their HDF5 files.
 
 A :class:`RunResult` holds every recorded channel (``CHANNELS`` of
-:mod:`impedance_mil.lab.kernels`), the VS states, how the run ended (a
-:class:`Trip` when a safety limit stopped it; the data up to the trip are
-kept) and the full configuration.  :func:`save_run` writes one HDF5 file per
+:mod:`impedance_mil.lab.structures`), the VS states, how the run ended (a
+:class:`~impedance_mil.lab.trips.Trip` when a safety limit stopped it; the
+data up to the trip are kept) and the full configuration.  The file stores a
+trip's cause by name and code (``trip_json``); files written before the code
+was stored carry the name only and load the same.  :func:`save_run` writes one HDF5 file per
 run (with any extra attributes and groups of the caller), to a temporary name
 renamed into place; :func:`load_run` reads it back.
 """
@@ -20,43 +22,16 @@ import h5py
 import numpy as np
 
 from .. import __version__
-from ..errors import ConfigError, DataFileError, LimitTripped
+from ..errors import ConfigError, DataFileError
 from ..fileio import atomic_path, json_safe
-from .kernels import CHANNELS
+from .structures import CHANNELS
+from .trips import Trip, TripCause
 
 #: Format tag written in every run file.
 FILE_FORMAT = "impedance-mil run 1"
 #: Root attributes and groups of a run file (``save_run``'s extras may not replace them).
 RUN_ATTRS = ("format", "software_version", "mode", "loop_time_s", "config_json", "trip_json")
 RUN_GROUPS = ("channels", "vs_states")
-
-
-@dataclass(frozen=True)
-class Trip:
-    """A safety limit that stopped a run.
-
-    Attributes
-    ----------
-    limit : str
-        ``"stroke"``, ``"velocity"``, ``"actuator_force"``, ``"valve_saturation"``,
-        ``"nan"`` or ``"divergence"``.
-    time_s : float
-        Time of the trip [s]; records stop just before it.
-    value : float
-        The offending value (in, in/s, lbf or V).
-    """
-
-    limit: str
-    time_s: float
-    value: float
-
-    @property
-    def detail(self) -> str:
-        return f"value {self.value:.6g}"
-
-    def as_exception(self) -> LimitTripped:
-        """The :class:`~impedance_mil.errors.LimitTripped` describing this trip."""
-        return LimitTripped(self.limit, self.time_s, self.detail)
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,11 +130,7 @@ def save_run(
         f.attrs["mode"] = result.mode
         f.attrs["loop_time_s"] = result.loop_time
         f.attrs["config_json"] = json.dumps(json_safe(result.config), default=repr)
-        f.attrs["trip_json"] = json.dumps(
-            None
-            if result.trip is None
-            else {"limit": result.trip.limit, "time_s": result.trip.time_s, "value": result.trip.value}
-        )
+        f.attrs["trip_json"] = json.dumps(_trip_record(result.trip))
         grp = f.create_group("channels")
         for name, arr in result.channels.items():
             grp.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
@@ -168,6 +139,26 @@ def save_run(
         f.attrs.update(extra_attrs)
         _write_groups(f, extra_groups)
     return path
+
+
+def _trip_record(trip: Trip | None) -> dict | None:
+    """The ``trip_json`` entry: the cause by name (``limit``) and code (``cause``)."""
+    if trip is None:
+        return None
+    return {"limit": trip.limit, "cause": int(trip.cause), "time_s": trip.time_s, "value": trip.value}
+
+
+def _trip_from_record(path: Path, record: Mapping[str, Any]) -> Trip:
+    """The :class:`Trip` of a ``trip_json`` entry (the name decides; a stored code must agree)."""
+    try:
+        cause = TripCause.from_label(record["limit"])
+    except ValueError as exc:
+        raise DataFileError(path, f"trip_json: {exc}") from exc
+    if "cause" in record and record["cause"] != int(cause):
+        raise DataFileError(
+            path, f"trip_json: cause code {record['cause']!r} does not match limit {record['limit']!r}"
+        )
+    return Trip(cause, float(record["time_s"]), float(record["value"]))
 
 
 def _write_groups(parent: h5py.Group, groups: Mapping[str, Mapping[str, Any]]) -> None:
@@ -195,7 +186,7 @@ def load_run(path: str | Path) -> RunResult:
                 vs_state_names=tuple(json.loads(f["vs_states"].attrs["names"])),
                 mode=str(f.attrs["mode"]),
                 loop_time=float(f.attrs["loop_time_s"]),
-                trip=None if trip is None else Trip(trip["limit"], trip["time_s"], trip["value"]),
+                trip=None if trip is None else _trip_from_record(path, trip),
                 config=json.loads(f.attrs["config_json"]),
                 software_version=str(f.attrs["software_version"]),
             )

@@ -66,16 +66,6 @@ LEGACY_METRIC_KEYS = {
 #: How a run ended, in :func:`trip_summary` (the trip itself is flattened to ``trip_*`` in table rows).
 TRIP_KEYS = ("simulated_s", "aborted", "abort_reason")
 
-#: Unit of the value a trip reports, by limit (lab.results.Trip).
-TRIP_UNITS = {
-    "stroke": "in",
-    "velocity": "in/s",
-    "actuator_force": "lbf",
-    "valve_saturation": "V",
-    "divergence": "in",
-    "nan": "",
-}
-
 #: Shortest run with metrics [s] (lab.experiments computes none below it).
 MIN_METRICS_S = 1.0
 
@@ -84,7 +74,7 @@ def trip_text(run: RunResult) -> str | None:
     """``"limit 'stroke' tripped at t = 2.6500 s (value -3.001 in)"``, or None for a completed run."""
     if run.trip is None:
         return None
-    unit = TRIP_UNITS.get(run.trip.limit, "")
+    unit = run.trip.unit
     return (
         f"limit '{run.trip.limit}' tripped at t = {run.trip.time_s:.4f} s "
         f"(value {run.trip.value:.4g}{' ' + unit if unit else ''})"
@@ -97,9 +87,7 @@ def trip_summary(run: RunResult) -> dict[str, Any]:
         "simulated_s": run.n_samples * run.loop_time,
         "aborted": run.trip is not None,
         "abort_reason": trip_text(run),
-        "trip": None
-        if run.trip is None
-        else {"limit": run.trip.limit, "time_s": run.trip.time_s, "value": run.trip.value},
+        "trip": None if run.trip is None else run.trip.to_dict(),
     }
 
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..specimens.sensors import QUANTITIES, SensorSuite
-from .kernels import L_DIVERGE, L_FORCE, L_STROKE, L_VALVE_TIME, L_VELOCITY
+from .structures import LimitValues, SensorArrays
 
 #: Default sensor noise of the virtual lab [V rms per channel].
 DEFAULT_NOISE_V = 1.0e-3
@@ -56,13 +56,12 @@ def draw_noise(rng: np.random.Generator, suite: SensorSuite, n_loops: int | None
     return rng.standard_normal(shape, dtype=np.float32)
 
 
-def sensor_arrays(suite: SensorSuite, feedback: str = "lc", quantize: bool = True) -> tuple:
-    """The tuple of arrays :func:`impedance_mil.lab.kernels.plant_sense` reads.
+def sensor_arrays(suite: SensorSuite, feedback: str = "lc", quantize: bool = True) -> SensorArrays:
+    """The :class:`~impedance_mil.lab.structures.SensorArrays` the sensing kernel reads.
 
-    ``(quantity_index, gain, scale, offset, noise_rms, lsb, v_low, v_high,
-    load_cell_weights, channel_index, quantity_buffer)``; ``channel_index``
-    holds the first channel measuring z, x and dP.  ``quantize=False``
-    replaces the 16-bit LSB by :data:`UNQUANTIZED_LSB_V` (model studies only).
+    The suite's channel arrays, the first channel measuring z, x and dP, and a
+    quantity buffer.  ``quantize=False`` replaces the 16-bit LSB by
+    :data:`UNQUANTIZED_LSB_V` (model studies only).
     """
     qi = np.asarray(suite.quantity_index)
     idx = []
@@ -75,18 +74,21 @@ def sensor_arrays(suite: SensorSuite, feedback: str = "lc", quantize: bool = Tru
         raise ConfigError(
             "sensors", "reaction load cells (interface_force channels) for feedback 'lc'", suite.names
         )
-    return (
-        np.ascontiguousarray(qi, dtype=np.int64),
-        np.array(suite.gain),
-        np.array(suite.scale),
-        np.array(suite.offset),
-        np.array(suite.noise_rms),
-        np.array(suite.lsb) if quantize else np.full(suite.n_channels, UNQUANTIZED_LSB_V),
-        np.array(suite.v_low),
-        np.array(suite.v_high),
-        np.array(suite.load_cell_weights),
-        np.array(idx, dtype=np.int64),
-        np.zeros(len(QUANTITIES)),
+    z_channel, x_channel, dp_channel = idx
+    return SensorArrays(
+        quantity_index=np.ascontiguousarray(qi, dtype=np.int64),
+        gain=np.array(suite.gain),
+        scale=np.array(suite.scale),
+        offset=np.array(suite.offset),
+        noise_rms=np.array(suite.noise_rms),
+        lsb=np.array(suite.lsb) if quantize else np.full(suite.n_channels, UNQUANTIZED_LSB_V),
+        v_low=np.array(suite.v_low),
+        v_high=np.array(suite.v_high),
+        load_cell_weights=np.array(suite.load_cell_weights),
+        z_channel=z_channel,
+        x_channel=x_channel,
+        dp_channel=dp_channel,
+        quantities=np.zeros(len(QUANTITIES)),
     )
 
 
@@ -128,15 +130,16 @@ class SafetyLimits:
         """Only NaN and divergence checks remain (for studies beyond the rig's limits)."""
         return cls(stroke=1e9, velocity=1e9, actuator_force=1e12, valve_saturation_time=1e9, divergence=1e3)
 
-    def array(self, table) -> np.ndarray:
-        """Limits in the kernel layout for ``table`` (a NonlinearTable)."""
-        out = np.zeros(5)
-        out[L_STROKE] = self.stroke
-        out[L_VELOCITY] = self.velocity
-        out[L_FORCE] = 0.95 * table.max_force if self.actuator_force is None else self.actuator_force
-        out[L_VALVE_TIME] = self.valve_saturation_time
-        out[L_DIVERGE] = self.divergence
-        return out
+    def kernel_values(self, table) -> LimitValues:
+        """The thresholds for ``table`` (a NonlinearTable; it sets the default actuator force)."""
+        force = 0.95 * table.max_force if self.actuator_force is None else self.actuator_force
+        return LimitValues(
+            stroke=float(self.stroke),
+            velocity=float(self.velocity),
+            actuator_force=float(force),
+            valve_saturation_time=float(self.valve_saturation_time),
+            divergence=float(self.divergence),
+        )
 
     def to_dict(self) -> dict:
         return asdict(self)

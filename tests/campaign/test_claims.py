@@ -65,6 +65,7 @@ def test_basemat_mass_threshold():
                 "m_vs_ratio": r,
                 "status": "aborted" if r in unstable else "ok",
                 "error": f"limit '{limit}' tripped at t = 1 s" if r in unstable else "",
+                "trip_limit": limit if r in unstable else None,
                 "hf_ratio": 0.1,
             }
             for r in (1.25, 1.0, 0.9, 0.8, 0.7)
@@ -81,6 +82,26 @@ def test_basemat_mass_threshold():
     oscillating = rows(set())
     oscillating[-1]["hf_ratio"] = 3.0
     assert verdict("sec9-basemat-mass", [table("basemat-mass", oscillating)]).verdict == AGREE
+
+
+def test_stability_follows_the_recorded_cause_not_the_message():
+    # The verdict reads the trip cause recorded with the run (its trip_limit column, a
+    # TripCause name), never the error text: a message naming the stroke with a velocity
+    # cause is unstable, one naming the velocity with a stroke cause is inconclusive, and
+    # an aborted run without a recorded cause is inconclusive whatever its message says.
+    def rows(aborted):
+        ok = [{"vs": "SD2", "m_vs_ratio": r, "hf_ratio": 0.1} for r in (1.25, 1.0, 0.9, 0.8)]
+        return ok + [{"vs": "SD2", "m_vs_ratio": 0.7, "hf_ratio": 0.1, "status": "aborted", **aborted}]
+
+    def outcome(aborted):
+        return verdict("sec9-basemat-mass", [table("basemat-mass", rows(aborted))])
+
+    velocity = outcome({"error": "limit 'stroke' tripped at t = 1 s", "trip_limit": "velocity"})
+    assert velocity.verdict == AGREE and "unstable at m_vs/m_st = 0.7;" in velocity.measured
+    stroke = outcome({"error": "limit 'velocity' tripped at t = 1 s", "trip_limit": "stroke"})
+    assert stroke.verdict == DISAGREE and "inconclusive (stroke trip) at 0.7" in stroke.measured
+    unrecorded = outcome({"error": "limit 'velocity' tripped at t = 1 s"})
+    assert unrecorded.verdict == DISAGREE and "no trip cause recorded" in unrecorded.measured
 
 
 def test_mil_band_needs_15_hz_in_most_cases():
