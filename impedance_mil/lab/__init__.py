@@ -15,8 +15,9 @@ from .loop import simulate, simulate_interface
 from .metrics import RunMetrics, evaluate_run
 from .plant_interface import Measurements, PlantInterface, VirtualTable
 from .reference import ScipyTable
-from .results import RunResult, Trip, load_run, save_run
+from .results import RunResult, load_run, save_run
 from .setup import SafetyLimits, default_sensors, ideal_sensors
+from .trips import Trip, TripCause
 
 __all__ = [
     "ControlledRun",
@@ -30,6 +31,7 @@ __all__ = [
     "ScipyTable",
     "TableIdentification",
     "Trip",
+    "TripCause",
     "VirtualTable",
     "default_sensors",
     "evaluate_run",

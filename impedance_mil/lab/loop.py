@@ -246,11 +246,14 @@ def simulate(
 def simulate_interface(
     plant: PlantInterface, *, command=None, a_g=None, runtime=None, feedback: str = "lc"
 ) -> RunResult:
-    """Run the loop in Python against a :class:`PlantInterface` (same tick order as :func:`simulate`).
+    """Run the loop in Python against a :class:`PlantInterface`: the tick sequence of :func:`simulate`.
 
-    The VS and controller are stepped through ``runtime.mil_step`` /
-    ``runtime.step``.  True plant quantities are recorded when the plant
-    offers ``truth()`` (the virtual table does), NaN otherwise.
+    :data:`impedance_mil.lab.tick.run_ticks`, the same sequence as the compiled
+    loop with the stages of :mod:`impedance_mil.lab.interface_stages`.  The VS
+    and controller are stepped through ``runtime.mil_step`` /
+    ``runtime.step_parts``.  True plant quantities are recorded when the plant
+    offers ``truth()`` (the virtual table does), NaN otherwise; a trip raised
+    by ``read_sensors`` ends the run with its cause and value.
     """
     if feedback not in _FEEDBACK:
         raise ConfigError("feedback", "'lc' (load cells) or 'fe' (force equilibrium)", feedback)
