@@ -23,7 +23,8 @@ from enum import IntEnum
 
 from ..errors import LimitTripped
 
-#: Column of a campaign summary row (and key of a kind's metrics) holding the cause's name.
+#: Column of a campaign summary row holding the cause's name (the ``limit`` of
+#: :meth:`Trip.to_dict`, flattened by :func:`impedance_mil.lab.runfile.flat_summary`).
 TRIP_LIMIT_KEY = "trip_limit"
 
 

@@ -10,7 +10,8 @@ import pytest
 
 from impedance_mil.errors import DataFileError, LimitTripped
 from impedance_mil.lab import Trip, load_run, save_run, simulate
-from impedance_mil.lab.trips import TripCause
+from impedance_mil.lab.runfile import flat_summary, run_summary
+from impedance_mil.lab.trips import TRIP_LIMIT_KEY, TripCause
 from impedance_mil.plant.nonlinear import NonlinearTable
 
 from .conftest import report_parameters
@@ -64,6 +65,15 @@ def test_run_file_stores_name_and_code_and_reads_old_files(tripped, tmp_path):
         f.attrs["trip_json"] = json.dumps({**stored, "limit": "melted"})
     with pytest.raises(DataFileError, match="trip.h5: trip_json: unknown trip cause"):
         load_run(path)
+
+
+def test_campaign_rows_carry_the_cause_under_the_key_the_claims_read(tripped):
+    # The flattened run summary (a campaign summary row) names the cause in the column
+    # the claims read (TRIP_LIMIT_KEY), and the JSON summary's trip is Trip.to_dict().
+    summary = run_summary(tripped, None)
+    assert summary["trip"] == tripped.trip.to_dict()
+    assert TripCause.from_label(flat_summary(summary)[TRIP_LIMIT_KEY]) is TripCause.STROKE
+    assert summary["abort_reason"].endswith(f"(value {tripped.trip.value:.4g} in)")
 
 
 def test_trip_is_a_value():
