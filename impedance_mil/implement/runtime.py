@@ -291,6 +291,7 @@ class MILRuntime:
         return MILTrace(u, z)
 
     def _records(self, a, b) -> tuple[np.ndarray, np.ndarray]:
-        a = np.ascontiguousarray(a, dtype=self.dtype).ravel()
-        b = np.broadcast_to(np.asarray(b, dtype=self.dtype), a.shape)
-        return a, np.ascontiguousarray(b)
+        # Writable copies: numba compiles a kernel once per argument type, and a read-only
+        # array (a broadcast record, a GroundMotion's samples) is another type.
+        a = np.array(a, dtype=self.dtype).ravel()
+        return a, np.array(np.broadcast_to(np.asarray(b, dtype=self.dtype), a.shape))

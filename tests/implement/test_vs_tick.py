@@ -102,5 +102,8 @@ def test_mil_step_compiles_once_per_dtype_for_every_vs(controller_tfs):
                 rt.mil_step(10.0, -50.0)
                 rt.run_mil(np.full(10, 10.0), -50.0)
     for kernel in (mil_step_kernel, mil_run_kernel):
-        dtypes = sorted(str(sig[0][0].dtype) for sig in kernel.signatures)  # ControllerArrays.m_z
-        assert dtypes == ["float32", "float64"], kernel.signatures
+        # (dtype of ControllerArrays.m_z, type of the VS slot) of every compiled variant
+        variants = sorted({(str(sig[0][0].dtype), str(sig[1])) for sig in kernel.signatures})
+        assert [dtype for dtype, _ in variants] == ["float32", "float64"], kernel.signatures
+        assert all(slot.startswith(f"FunctionType[{dtype}(") for dtype, slot in variants)
+    assert len(mil_step_kernel.signatures) == 2
