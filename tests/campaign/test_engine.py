@@ -15,6 +15,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from impedance_mil.campaign import InlineExecutor, LocalExecutor, load_campaign, load_summary, run_campaign
+from impedance_mil.campaign.kinds import get_kind
 from impedance_mil.design.io import load_design
 from impedance_mil.fileio import stale_temporaries
 
@@ -205,10 +206,15 @@ def test_killed_campaign_resumes_with_only_the_remaining_runs(make_campaign, tmp
         time.sleep(0.05)
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait(timeout=10)
-    done_before = {p.stem for p in (out / "records").glob("*.json")}
-    assert 2 <= len(done_before) < 8
-    # No temporary files were left under a final name: every record parses.
+    recorded = {p.stem for p in (out / "records").glob("*.json")}
+    assert 2 <= len(recorded) < 8
+    # A record is written before its output is renamed into place, so the kill may leave a
+    # record without its output (that run is redone), never an output without a record.
     spec = load_campaign(path)
+    kind_output = get_kind(spec.runs[0].kind).output
+    done_before = {r for r in recorded if (out / "runs" / r / kind_output).is_file()}
+    outputs = {d.name for d in (out / "runs").iterdir() if (d / kind_output).is_file()}
+    assert outputs == done_before and len(recorded - done_before) <= 1
     result = run_campaign(spec, out, InlineExecutor())
     assert set(result.skipped) == done_before
     assert set(result.executed) == {r.run_id for r in spec.runs} - done_before
