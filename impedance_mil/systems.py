@@ -6,7 +6,9 @@ relative degree -3 until a filter is applied) and pole-zero cancellation
 with a *relative* tolerance.  python-control's ``minreal`` uses an absolute
 ``tol`` on root distances, which with poles at 2*pi*110 rad/s and at the
 origin either cancels too much or too little.  Conversions to and from
-python-control and state space are provided for everything else.
+python-control and the state-space object :class:`~impedance_mil.lti.StateSpace`
+(``from_lti``, ``to_lti``; round-off safe, :func:`~impedance_mil.ss2tf.ss_to_tf`)
+are provided for everything else.
 
 Convention: coefficients in descending powers of s, frequencies in Hz at
 the interface (:meth:`TransferFunction.frequency_response`) and rad/s
@@ -20,9 +22,10 @@ from dataclasses import dataclass
 
 import control
 import numpy as np
-import scipy.signal
 
 from .errors import ConfigError, ImproperSystemError, OperandError, SingularSystemError
+from .lti import StateSpace
+from .ss2tf import ROUNDOFF_RTOL, ss_to_tf
 from .units import TWO_PI
 
 #: Default relative tolerance for pole-zero cancellation.
@@ -38,7 +41,7 @@ def _trim(coeffs: np.ndarray) -> np.ndarray:
     Coefficients of polynomials in s [rad/s] routinely span 20 orders of
     magnitude (``1e-12 s**5 ... + 1``), so no tolerance relative to the largest
     coefficient is safe here; near-cancellation is removed where it arises
-    (:func:`_padd`, :meth:`TransferFunction.from_ss`).
+    (:func:`_padd`, :func:`~impedance_mil.ss2tf.ss_to_tf`).
     """
     c = np.atleast_1d(np.asarray(coeffs, dtype=float))
     if c.size == 0:
@@ -56,22 +59,6 @@ def _padd(a: np.ndarray, b: np.ndarray, rtol: float = SUM_RTOL) -> np.ndarray:
     out = pa + pb
     out[np.abs(out) <= rtol * (np.abs(pa) + np.abs(pb))] = 0.0
     return out
-
-
-def _trim_scaled(c: np.ndarray, omega: float, rtol: float) -> np.ndarray:
-    """Drop leading coefficients negligible on the frequency scale ``omega`` [rad/s].
-
-    Coefficient ``c_k`` of ``s**(n-k)`` is compared through ``|c_k| omega**(n-k)``
-    with the largest such term.
-    """
-    c = _trim(c)
-    n = c.size - 1
-    if n == 0 or omega <= 0:
-        return c
-    terms = np.abs(c) * omega ** np.arange(n, -1, -1, dtype=float)
-    big = np.max(terms)
-    keep = np.nonzero(terms > rtol * big)[0]
-    return c[keep[0] :].copy() if keep.size else np.zeros(1)
 
 
 def _real_poly(roots: Iterable[complex]) -> np.ndarray:
@@ -126,16 +113,45 @@ class TransferFunction:
 
     @classmethod
     def from_ss(cls, A, B, C, D=0.0) -> TransferFunction:
-        """Transfer function of a SISO state-space model ``(A, B, C, D)``."""
-        A = np.atleast_2d(np.asarray(A, dtype=float))
-        B = np.asarray(B, dtype=float).reshape(-1, 1)
-        C = np.asarray(C, dtype=float).reshape(1, -1)
-        D = np.asarray(D, dtype=float).reshape(1, 1)
-        num, den = scipy.signal.ss2tf(A, B, C, D)
-        # ss2tf leaves rounding residue where the numerator degree drops; judge it
-        # on the frequency scale of the system (spectral radius of A).
-        omega = float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 1.0
-        return cls(_trim_scaled(num[0], omega if omega > 0 else 1.0, 1e-10), den)
+        """Transfer function of a SISO state-space model ``(A, B, C, D)`` (see :meth:`from_lti`)."""
+        return cls.from_lti(StateSpace(A, B, C, D))
+
+    @classmethod
+    def from_lti(
+        cls, sys: StateSpace, cancel_rtol: float | None = None, roundoff_rtol: float = ROUNDOFF_RTOL
+    ) -> TransferFunction:
+        """Transfer function of a continuous SISO :class:`~impedance_mil.lti.StateSpace`.
+
+        The polynomials come from :func:`~impedance_mil.ss2tf.ss_to_tf`:
+        round-off coefficients at either end of the numerator are exact
+        zeros, so the relative degree and the zeros at the origin are right.
+
+        Parameters
+        ----------
+        sys : StateSpace
+            Continuous (``dt = 0``), one input and one output (see ``StateSpace.channel``).
+        cancel_rtol : float, optional
+            Cancel pole-zero pairs closer than this relative tolerance
+            (:meth:`minreal`; dimensionless), e.g. :data:`CANCEL_RTOL`.
+            None keeps every eigenvalue of ``A`` as a pole.  The polynomials
+            are returned unchanged when no pair cancels.
+        roundoff_rtol : float
+            Threshold of :func:`~impedance_mil.ss2tf.ss_to_tf` (dimensionless).
+
+        Raises
+        ------
+        ValueError
+            ``sys`` is discrete or not SISO (a :class:`~impedance_mil.errors.ConfigError`).
+        """
+        if sys.is_discrete:
+            raise ConfigError(
+                "state_space", "a continuous system (dt = 0) for a transfer function in s", sys.dt
+            )
+        tf = cls(*ss_to_tf(sys, roundoff_rtol))
+        if cancel_rtol is None:
+            return tf
+        reduced = tf.minreal(cancel_rtol)
+        return reduced if reduced.order < tf.order else tf
 
     @classmethod
     def from_zpk(cls, zeros, poles, gain: float) -> TransferFunction:
@@ -144,9 +160,16 @@ class TransferFunction:
 
     @classmethod
     def from_control(cls, sys) -> TransferFunction:
-        """Convert a SISO ``control.TransferFunction`` or ``StateSpace``."""
-        tf = control.tf(sys)
-        return cls(np.asarray(tf.num[0][0], float), np.asarray(tf.den[0][0], float))
+        """Convert a continuous SISO ``control.TransferFunction`` or ``control.StateSpace``.
+
+        A state space goes through :meth:`from_lti` (round-off safe), not
+        through python-control's own conversion.
+        """
+        if isinstance(sys, control.TransferFunction):
+            if sys.ninputs != 1 or sys.noutputs != 1 or sys.isdtime(strict=True):
+                raise ConfigError("system", "a continuous SISO transfer function", str(sys))
+            return cls(np.asarray(sys.num[0][0], float), np.asarray(sys.den[0][0], float))
+        return cls.from_lti(StateSpace.from_control(sys))
 
     # ------------------------------------------------------------- properties
     @property
@@ -336,12 +359,22 @@ class TransferFunction:
         """As a ``control.TransferFunction`` (proper functions only for simulation)."""
         return control.tf(self.num, self.den)
 
+    def to_lti(self, input: str = "u0", output: str = "y0") -> StateSpace:
+        """Controllable-canonical :class:`~impedance_mil.lti.StateSpace` of a proper function.
+
+        Raises
+        ------
+        ValueError
+            The function is improper (a :class:`~impedance_mil.errors.ConfigError`).
+        """
+        return StateSpace.from_polynomials(self.num, self.den, 0.0, input, output)
+
     def to_ss(self):
-        """Controllable-canonical state space ``(A, B, C, D)`` of a proper function."""
+        """Controllable-canonical ``(A, B, C, D)`` of a proper function (the matrices of :meth:`to_lti`)."""
         if not self.is_proper:
             raise ImproperSystemError("an improper transfer function has no state-space realization")
-        A, B, C, D = scipy.signal.tf2ss(self.num, self.den)
-        return A, B, C, D
+        sys = self.to_lti()
+        return sys.A, sys.B, sys.C, sys.D
 
     @classmethod
     def from_dict(cls, data) -> TransferFunction:

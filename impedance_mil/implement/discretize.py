@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError, UnstableDesignError
+from ..lti import StateSpace
 from ..systems import TransferFunction
 from ..units import TWO_PI
 from .realization import (
@@ -104,14 +105,15 @@ class ChannelRealization:
         m[n, n] = self.D
         return m
 
+    @property
+    def system(self) -> StateSpace:
+        """The realization as a discrete :class:`~impedance_mil.lti.StateSpace` (sample time the loop time)."""
+        inp = "z_vs" if self.name == "H_uz" else "w"
+        return StateSpace(self.A, self.B, self.C, self.D, self.zpk.loop_time_s, (inp,), ("u",))
+
     def frequency_response(self, f_hz) -> np.ndarray:
-        """Complex response of the realization at ``f_hz`` [Hz]."""
-        f = np.atleast_1d(np.asarray(f_hz, float))
-        n = self.n_states
-        out = np.empty(f.size, complex)
-        for i, zz in enumerate(np.exp(1j * TWO_PI * f * self.zpk.loop_time_s)):
-            out[i] = self.D + (self.C @ np.linalg.solve(zz * np.eye(n) - self.A, self.B) if n else 0.0)
-        return out
+        """Complex response of the realization at ``f_hz`` [Hz] (``z = exp(j 2 pi f T)``)."""
+        return self.system.frequency_response(np.atleast_1d(np.asarray(f_hz, float)))
 
 
 @dataclass(frozen=True, eq=False)

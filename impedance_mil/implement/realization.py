@@ -23,9 +23,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.signal
 
 from ..errors import ConfigError
+from ..lti import StateSpace
+from ..ss2tf import ss_to_tf
 from ..systems import TransferFunction
 from ..units import TWO_PI
 
@@ -179,16 +180,16 @@ def discrete_zpk(
 
 
 def _map_zoh(tf, dt, poles):
-    """ZOH: zeros and gain from scipy's exact discretization, poles exp(p*dt) exactly."""
-    sysd = scipy.signal.cont2discrete(scipy.signal.tf2ss(tf.num, tf.den), dt, method="zoh")
-    zd, _, _ = scipy.signal.ss2zpk(sysd[0], sysd[1], sysd[2], sysd[3])
+    """ZOH: zeros and gain from the exact discretization (:meth:`StateSpace.zoh`), poles exp(p*dt) exactly."""
+    sysd = tf.to_lti().zoh(dt)
+    num, _ = ss_to_tf(sysd)
+    zd = np.roots(num)
     pd = np.exp(poles * dt)
     zd = zd[np.isfinite(zd)]
     # Gain from the exact ZOH response at a frequency away from poles and zeros.
     f_ref = 0.1 / dt / TWO_PI
     zz = np.exp(1j * TWO_PI * f_ref * dt)
-    A, B, C, D = sysd[0], sysd[1], sysd[2], sysd[3]
-    h = (C @ np.linalg.solve(zz * np.eye(A.shape[0]) - A, B) + D)[0, 0]
+    h = sysd.frequency_response(f_ref)
     k = h / (np.prod(zz - zd) / np.prod(zz - pd))
     return zd, pd, float(np.real(k))
 
@@ -347,5 +348,5 @@ def canonical_realization(zpk: DiscreteZPK) -> tuple[np.ndarray, np.ndarray, np.
     """
     num = zpk.gain * np.real(np.poly(zpk.zeros))
     den = np.real(np.poly(zpk.poles))
-    A, B, C, D = scipy.signal.tf2ss(num, den)
-    return A, B[:, 0], C[0], float(D[0, 0])
+    sys = StateSpace.from_polynomials(num, den, zpk.loop_time_s)
+    return sys.A, sys.B[:, 0], sys.C[0], float(sys.D[0, 0])

@@ -28,9 +28,9 @@ from dataclasses import dataclass, field
 import control
 import numpy as np
 import scipy.linalg
-import scipy.signal
 
 from ..errors import ConfigError, UnstableSystemError
+from ..lti import StateSpace
 from ..systems import TransferFunction
 from .parameters import TableParameters
 from .sampled import SampledTable
@@ -48,11 +48,10 @@ def pade_state_space(tau: float, order: int) -> tuple[np.ndarray, np.ndarray, np
     Realized for tau = 1 and balanced, then scaled by ``1/tau`` (``s tau`` is
     the natural variable), so that short delays do not give huge coefficients.
     """
-    num, den = control.pade(1.0, order)
-    A1, b1, c1, d1 = scipy.signal.tf2ss(num, den)
-    A1, T = scipy.linalg.matrix_balance(A1, permute=False)
+    unit = StateSpace.from_polynomials(*control.pade(1.0, order))
+    A1, T = scipy.linalg.matrix_balance(unit.A, permute=False)
     scaling = np.diag(T)
-    return A1 / tau, b1[:, 0] / scaling / tau, c1[0] * scaling, float(d1[0, 0])
+    return A1 / tau, unit.B[:, 0] / scaling / tau, unit.C[0] * scaling, float(unit.D[0, 0])
 
 
 def closed_loop_state_space(
@@ -82,12 +81,12 @@ def closed_loop_state_space(
     b_u = p.Kv * p.Ke * b_i
     if delay == "none" or tau == 0.0:
         A_cl = A - p.Kv * np.outer(b_i, k)
-        return TableStateSpace(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
+        return TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
     if delay == "first-order":
         # y(t - tau) ~ y - tau y' with y' = k A x (k B = 0: x and dP have no direct input)
         k_delayed = k - tau * (k @ A)
         A_cl = A - p.Kv * np.outer(b_i, k_delayed)
-        return TableStateSpace(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
+        return TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
     if delay == "pade":
         if pade_order < 1:
             raise ConfigError("pade_order", "an integer >= 1", pade_order)
@@ -102,7 +101,7 @@ def closed_loop_state_space(
         pad = np.zeros(q)
         C = {name: np.concatenate([row, pad]) for name, row in ol.C.items()}
         states = PLANT_STATES + tuple(f"delay_{i + 1}" for i in range(q))
-        return TableStateSpace(
+        return TableStateSpace.build(
             A_cl, np.concatenate([b_u, pad]), np.concatenate([ol.B_w, pad]), C, ol.D, states
         )
     raise ConfigError("delay", "one of none, first-order, pade", delay)

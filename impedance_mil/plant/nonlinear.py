@@ -46,6 +46,7 @@ import numpy as np
 from numba import njit
 
 from ..errors import ConfigError
+from ..lti import StateSpace
 from ..units import TWO_PI
 
 # --------------------------------------------------------------------------- layout
@@ -254,19 +255,27 @@ class LinearizedTable:
     C: dict
     state_names: tuple
 
+    @property
+    def system(self) -> StateSpace:
+        """The same model as one :class:`~impedance_mil.lti.StateSpace`, inputs ``("u", "w")``."""
+        names = tuple(self.C)
+        return StateSpace(
+            self.A,
+            np.column_stack([self.B_u, self.B_w]),
+            np.vstack([self.C[k][0] for k in names]),
+            np.array([self.C[k][1:] for k in names], dtype=float),
+            0.0,
+            ("u", "w"),
+            names,
+            tuple(self.state_names),
+        )
+
     def frequency_response(self, output: str, input: str, f_hz) -> np.ndarray:
         """Complex response of ``output`` to ``input`` (``"u"`` or ``"w"``) at ``f_hz`` [Hz]."""
         if output not in self.C or input not in ("u", "w"):
             raise ConfigError("output/input", f"one of {sorted(self.C)} / 'u' or 'w'", (output, input))
-        c, d_u, d_w = self.C[output]
-        b = self.B_u if input == "u" else self.B_w
-        d = d_u if input == "u" else d_w
         f = np.atleast_1d(np.asarray(f_hz, dtype=float))
-        n = self.A.shape[0]
-        out = np.empty(f.size, dtype=complex)
-        for k, fk in enumerate(f):
-            out[k] = c @ np.linalg.solve(1j * TWO_PI * fk * np.eye(n) - self.A, b) + d
-        return out
+        return self.system.channel(output, input).frequency_response(f)
 
 
 @dataclass(frozen=True)

@@ -20,19 +20,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from ..errors import ConfigError
+from ..lti import StateSpace
+from ..ss2tf import ss_to_tf
 from .parameters import TableParameters
-from .statespace import (
-    INPUTS,
-    OUTPUTS,
-    PLANT_STATES,
-    feedback_row,
-    plant_state_space,
-    resolvent_response,
-    ss_to_tf,
-)
+from .statespace import INPUTS, PLANT_STATES, TableChannels, feedback_row, plant_state_space
 
 
 @dataclass(frozen=True)
@@ -58,67 +51,44 @@ class DiscreteTransferFunction:
         }
 
 
-def zoh_discretize(A: np.ndarray, B: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """Exact ZOH discretization ``(Phi, Gamma)`` of ``x' = A x + B u`` over ``dt`` [s]."""
-    n, m = A.shape[0], B.shape[1]
-    block = np.zeros((n + m, n + m))
-    block[:n, :n] = A * dt
-    block[:n, n:] = B * dt
-    E = scipy.linalg.expm(block)
-    return E[:n, :n], E[:n, n:]
-
-
 @dataclass(frozen=True, eq=False)
-class SampledTable:
+class SampledTable(TableChannels):
     """The table under digital control, at the sampling instants.
 
     Attributes
     ----------
-    A : ndarray, shape (6, 6)
-        Discrete state matrix of ``[x, v, dp, spool, spool_rate, m]``.
-    B_u, B_w : ndarray, shape (6,)
-        Input vectors of the command u [in] and the force w [lbf].
-    C : dict of str to ndarray
-        Output rows (``"z"``, ``"x"``, ``"v"``, ``"dp"``).
-    D : dict of str to tuple of float
-        Feedthrough (from u, from w).
-    dt : float
-        Loop time T [s].
+    system : StateSpace
+        Discrete, sample time the loop time T [s]; states ``[x, v, dp,
+        spool, spool_rate, memory]`` (``memory``: the feedback saved in the
+        previous loop [V]); inputs the command u [in] and the force w [lbf];
+        outputs ``"z"``, ``"x"``, ``"v"``, ``"dp"``.
     """
-
-    A: np.ndarray
-    B_u: np.ndarray
-    B_w: np.ndarray
-    C: dict
-    D: dict
-    dt: float
 
     @classmethod
     def from_params(cls, p: TableParameters) -> SampledTable:
         """Discretize Eq 4-11 with ZOH over ``p.loop_time`` and close the one-loop-delayed feedback."""
         if not p.loop_time > 0:
             raise ConfigError("loop_time", "a positive loop time for the sampled-data model", p.loop_time)
-        ol = plant_state_space(p)
-        phi, gam = zoh_discretize(ol.A, np.column_stack([ol.B_u, ol.B_w]), p.loop_time)
-        g_i, g_w = gam[:, 0], gam[:, 1]
+        ol = plant_state_space(p).system.zoh(p.loop_time)
+        phi, g_i, g_w = ol.A, ol.B[:, 0], ol.B[:, 1]
         n = phi.shape[0]
         A = np.zeros((n + 1, n + 1))
         A[:n, :n] = phi
         A[:n, n] = -p.Kv * g_i
         A[n, :n] = feedback_row(p)
-        B_u = np.append(p.Kv * p.Ke * g_i, 0.0)
-        B_w = np.append(g_w, 0.0)
-        C = {name: np.append(row, 0.0) for name, row in ol.C.items()}
-        return cls(A, B_u, B_w, C, dict(ol.D), p.loop_time)
+        B = np.column_stack([np.append(p.Kv * p.Ke * g_i, 0.0), np.append(g_w, 0.0)])
+        C = np.column_stack([ol.C, np.zeros(ol.n_outputs)])
+        states = PLANT_STATES + ("memory",)
+        return cls(StateSpace(A, B, C, ol.D, p.loop_time, INPUTS, ol.outputs, states))
 
     @property
-    def states(self) -> tuple[str, ...]:
-        """State names; ``memory`` is the feedback saved in the previous loop [V]."""
-        return PLANT_STATES + ("memory",)
+    def dt(self) -> float:
+        """Loop time T [s]."""
+        return self.system.dt
 
     def poles_z(self) -> np.ndarray:
         """Eigenvalues of the discrete loop (z-plane)."""
-        return np.linalg.eigvals(self.A)
+        return self.system.poles()
 
     def poles_s(self) -> np.ndarray:
         """Discrete poles mapped to the s-plane, ``ln(z)/T`` [rad/s].
@@ -132,29 +102,10 @@ class SampledTable:
 
     def is_stable(self) -> bool:
         """True when every discrete pole is inside the unit circle."""
-        return bool(np.all(np.abs(self.poles_z()) < 1.0))
+        return self.system.is_stable()
 
     def tf(self, output: str, input: str) -> DiscreteTransferFunction:
         """Discrete transfer function ``output(z)/input(z)`` at the sampling instants."""
-        if output not in OUTPUTS:
-            raise ConfigError("output", "one of " + ", ".join(OUTPUTS), output)
-        if input not in INPUTS:
-            raise ConfigError("input", "one of " + ", ".join(INPUTS), input)
-        b = self.B_w if input == "w" else self.B_u
-        feed = self.D[output][1 if input == "w" else 0]
-        num, den = ss_to_tf(self.A, b, self.C[output], feed)
-        return DiscreteTransferFunction(_trim_leading(num, den), den, self.dt)
-
-    def frequency_response(self, output: str, input: str, f_hz) -> np.ndarray:
-        """Complex response at ``f_hz`` [Hz] by solving ``(zI - A) X = b``."""
-        b = self.B_w if input == "w" else self.B_u
-        feed = self.D[output][1 if input == "w" else 0]
-        z = np.exp(2j * np.pi * np.atleast_1d(np.asarray(f_hz, dtype=float)) * self.dt)
-        return resolvent_response(self.A, b, self.C[output], feed, z)
-
-
-def _trim_leading(num: np.ndarray, den: np.ndarray, rtol: float = 1e-12) -> np.ndarray:
-    """Drop leading numerator coefficients that are round-off relative to the polynomial."""
-    scale = np.max(np.abs(num)) if num.size else 0.0
-    nz = np.nonzero(np.abs(num) > rtol * scale)[0] if scale > 0 else np.array([num.size - 1])
-    return num[nz[0] :].copy()
+        num, den = ss_to_tf(self.channel(output, input))  # round-off leading coefficients are exact zeros
+        lead = np.flatnonzero(num)
+        return DiscreteTransferFunction(num[lead[0] :] if lead.size else np.zeros(1), den, self.dt)

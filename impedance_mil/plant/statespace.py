@@ -8,14 +8,13 @@ state in equivalent current [mA] (unit DC gain from u_i), ``spool_rate``
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
-import scipy.linalg
-import scipy.signal
 
 from ..errors import ConfigError
+from ..lti import StateSpace
 from ..systems import TransferFunction
 from .parameters import TableParameters
 
@@ -25,198 +24,126 @@ OUTPUTS = ("z", "x", "v", "dp")
 INPUTS = ("u", "w")
 #: Names of the states of Eq 4-11.
 PLANT_STATES = ("x", "v", "dp", "spool", "spool_rate")
-#: Coefficients below this fraction of the terms summed into them are round-off.
-ROUNDOFF_RTOL = 1e-9
-#: Above this condition number of (balanced) A, zeros at the origin are not searched for.
-MAX_MOMENT_CONDITION = 1e6
 
 
 @dataclass(frozen=True, eq=False)
-class TableStateSpace:
-    """State-space model ``x' = A x + B_u u + B_w w``, ``y = C[y] x + D[y] (u, w)``.
+class TableChannels:
+    """A table model by name: one :class:`~impedance_mil.lti.StateSpace` and its named rows.
+
+    Every evaluation (transfer functions, frequency responses, poles) is that
+    of ``system``; the properties give its matrices by name, as the report
+    writes them (``B_u``, ``B_w``, the output rows ``C["z"]`` ...).
 
     Attributes
     ----------
-    A : ndarray, shape (n, n)
-        State matrix [1/s].
-    B_u : ndarray, shape (n,)
-        Input vector of the command (``u`` [in] closed loop, ``u_i`` [mA] open loop).
-    B_w : ndarray, shape (n,)
-        Input vector of the test-article force w [lbf].
-    C : dict of str to ndarray
-        Output rows for ``"z"``, ``"x"``, ``"v"``, ``"dp"``.
-    D : dict of str to tuple of float
-        Feedthrough (from the command, from w) of each output.
-    states : tuple of str
-        State names.
+    system : StateSpace
+        Inputs ``(input_name, "w")``, outputs a subset of :data:`OUTPUTS`.
+    input_name : str
+        Name of the command input: ``"u"`` [in] (closed loop) or ``"u_i"``
+        [mA] (open loop, Eq 4-11); ``"u"`` is accepted for either.
+    """
+
+    system: StateSpace
+    input_name: str = "u"
+
+    @property
+    def A(self) -> np.ndarray:
+        """State matrix ([1/s] continuous, dimensionless discrete)."""
+        return self.system.A
+
+    @property
+    def B_u(self) -> np.ndarray:
+        """Input vector of the command."""
+        return self.system.B[:, 0]
+
+    @property
+    def B_w(self) -> np.ndarray:
+        """Input vector of the test-article force w [lbf]."""
+        return self.system.B[:, 1]
+
+    @cached_property
+    def C(self) -> dict[str, np.ndarray]:
+        """Output rows by name."""
+        return dict(zip(self.system.outputs, self.system.C))
+
+    @cached_property
+    def D(self) -> dict[str, tuple[float, float]]:
+        """Feedthrough (from the command, from w) by output name."""
+        return {k: (float(row[0]), float(row[1])) for k, row in zip(self.system.outputs, self.system.D)}
+
+    @property
+    def states(self) -> tuple[str, ...]:
+        """State names."""
+        return self.system.states
+
+    def channel(self, output: str, input: str) -> StateSpace:
+        """The SISO system ``output/input``."""
+        if output not in self.system.outputs:
+            raise ConfigError("output", "one of " + ", ".join(self.system.outputs), output)
+        if input not in ("w", self.input_name, "u"):
+            raise ConfigError("input", f"one of {self.input_name}, w", input)
+        return self.system.channel(output, "w" if input == "w" else self.input_name)
+
+    def input_vector(self, input: str) -> np.ndarray:
+        """``B_u`` for the command input, ``B_w`` for ``"w"``."""
+        return self.channel(self.system.outputs[0], input).B[:, 0]
+
+    def poles(self) -> np.ndarray:
+        """Eigenvalues of A ([rad/s] continuous, z-plane discrete)."""
+        return self.system.poles()
+
+    def frequency_response(self, output: str, input: str, f_hz) -> np.ndarray:
+        """Complex response at ``f_hz`` [Hz] by solving ``(pI - A) X = b`` (no polynomials)."""
+        return self.channel(output, input).frequency_response(np.atleast_1d(np.asarray(f_hz, dtype=float)))
+
+
+@dataclass(frozen=True, eq=False)
+class TableStateSpace(TableChannels):
+    """Continuous table model ``x' = A x + B_u u + B_w w``, ``y = C[y] x + D[y] (u, w)``.
+
+    Attributes
+    ----------
+    system : StateSpace
+        A [1/s]; inputs the command (``u`` [in] closed loop, ``u_i`` [mA]
+        open loop) and the test-article force w [lbf]; outputs ``"z"``,
+        ``"x"``, ``"v"``, ``"dp"``.
     input_name : str
         ``"u"`` (closed loop) or ``"u_i"`` (open loop, Eq 4-11).
     """
 
-    A: np.ndarray
-    B_u: np.ndarray
-    B_w: np.ndarray
-    C: Mapping[str, np.ndarray]
-    D: Mapping[str, tuple[float, float]]
-    states: tuple[str, ...]
-    input_name: str = "u"
+    @classmethod
+    def build(cls, A, B_u, B_w, C, D, states, input_name: str = "u") -> TableStateSpace:
+        """From the state matrix, the two input vectors and the output rows and feedthroughs by name.
 
-    def input_vector(self, input: str) -> np.ndarray:
-        """``B_u`` for the command input, ``B_w`` for ``"w"``."""
-        if input == "w":
-            return self.B_w
-        if input in (self.input_name, "u"):
-            return self.B_u
-        raise ConfigError("input", f"one of {self.input_name}, w", input)
+        Parameters
+        ----------
+        A : ndarray, shape (n, n)
+            State matrix [1/s].
+        B_u, B_w : ndarray, shape (n,)
+            Input vectors of the command and of w [lbf].
+        C : mapping of str to ndarray, shape (n,)
+            Output rows by name (``"z"``, ``"x"``, ``"v"``, ``"dp"``).
+        D : mapping of str to (float, float)
+            Feedthrough (from the command, from w) of each output.
+        states : tuple of str
+        input_name : str
+        """
+        names = tuple(C)
+        system = StateSpace(
+            A,
+            np.column_stack([B_u, B_w]),
+            np.vstack([C[k] for k in names]),
+            np.array([D[k] for k in names], dtype=float),
+            0.0,
+            (input_name, "w"),
+            names,
+            states,
+        )
+        return cls(system, input_name)
 
     def tf(self, output: str, input: str) -> TransferFunction:
-        """Transfer function ``output/input`` (numerator and denominator from the state space)."""
-        if output not in self.C:
-            raise ConfigError("output", "one of " + ", ".join(self.C), output)
-        b = self.input_vector(input)
-        feed = self.D[output][1 if input == "w" else 0]
-        num, den = ss_to_tf(self.A, b, self.C[output], feed)
-        return TransferFunction(num, den)
-
-    def poles(self) -> np.ndarray:
-        """Eigenvalues of A [rad/s]."""
-        return np.linalg.eigvals(self.A)
-
-    def frequency_response(self, output: str, input: str, f_hz) -> np.ndarray:
-        """Complex response at ``f_hz`` [Hz] by solving ``(sI - A) X = b`` (no polynomials)."""
-        s = 2j * np.pi * np.atleast_1d(np.asarray(f_hz, dtype=float))
-        feed = self.D[output][1 if input == "w" else 0]
-        return resolvent_response(self.A, self.input_vector(input), self.C[output], feed, s)
-
-
-def resolvent_response(
-    A: np.ndarray, b: np.ndarray, c: np.ndarray, d: float, points: np.ndarray
-) -> np.ndarray:
-    """``c (p I - A)^-1 b + d`` at each complex point p (s or z)."""
-    eye = np.eye(A.shape[0])
-    return np.array([c @ np.linalg.solve(p * eye - A, b) + d for p in np.atleast_1d(points)])
-
-
-def ss_to_tf(
-    A: np.ndarray, b: np.ndarray, c: np.ndarray, d: float = 0.0, rtol: float = ROUNDOFF_RTOL
-) -> tuple[np.ndarray, np.ndarray]:
-    """SISO transfer function of ``(A, b, c, d)`` with exact structural zeros.
-
-    Three conversions are computed: the Faddeev-LeVerrier recursion
-    ``(sI - A)^-1 = sum_k M_k s^(n-k) / det(sI - A)``, ``M_{k+1} = A M_k +
-    a_k I`` (most accurate for the small 5-6 state models),
-    :func:`scipy.signal.ss2tf`, and poles and transmission zeros from
-    (generalized) eigenvalues (best for the stiff Pade-augmented models).  The one whose response best matches the
-    resolvent ``c (sI - A)^-1 b + d`` at points spread over the poles is
-    kept.  A is balanced first (exact power-of-2 scaling).  Structural zeros are then made exact: leading coefficients whose
-    terms are all structurally zero (same recursion on ``|A|``), and
-    trailing coefficients when the low-frequency moments ``c A^-(k+1) b``
-    vanish to ``rtol`` (zeros at the origin, e.g. the double zero of z/u,
-    Eq 4-15a).  This matters when the function is inverted.
-
-    Parameters
-    ----------
-    A : ndarray, shape (n, n)
-    b, c : ndarray, shape (n,)
-    d : float
-    rtol : float
-        Relative round-off threshold of the moments (dimensionless).
-
-    Returns
-    -------
-    num, den : ndarray
-        Coefficients in descending powers of s (or z), both of length n + 1;
-        ``den`` is monic.
-    """
-    A, T = scipy.linalg.matrix_balance(np.asarray(A, dtype=float), permute=False)
-    scaling = np.diag(T)  # powers of 2: the similarity is exact and keeps structural zeros
-    b = np.asarray(b, dtype=float) / scaling
-    c = np.asarray(c, dtype=float) * scaling
-    n = A.shape[0]
-    num_lv, den_lv, structural = _leverrier(A, b, c, float(d))
-    nums, den_sp = scipy.signal.ss2tf(A, b.reshape(n, 1), c.reshape(1, n), float(d))
-    num_sp = np.zeros(n + 1)
-    num_sp[n + 1 - nums.shape[1] :] = nums[0]
-    origin_zeros = _zeros_at_origin(A, b, c, float(d), rtol)
-    den_sp = np.asarray(den_sp, dtype=float)
-    candidates = []
-    for num, den in ((num_lv, den_lv), (num_sp, den_sp), (_zeros_numerator(A, b, c, d, n), den_sp)):
-        num = num.copy()
-        num[structural] = 0.0
-        if origin_zeros:
-            num[n + 1 - origin_zeros :] = 0.0
-        candidates.append((num, den))
-    scale = np.abs(np.linalg.eigvals(A))
-    scale = scale[scale > 0]
-    top = scale.max() * 10 if scale.size else 10.0
-    points = 1j * np.geomspace(scale.min() / 10 if scale.size else 0.1, top, 16)
-    ref = resolvent_response(A, b, c, d, points)
-    errors = [
-        np.max(
-            np.abs(np.polyval(nm, points) / np.polyval(dn, points) - ref) / np.maximum(np.abs(ref), 1e-300)
-        )
-        for nm, dn in candidates
-    ]
-    return candidates[int(np.argmin(errors))]
-
-
-def _zeros_numerator(A, b, c, d, n):
-    """Numerator from the transmission zeros (generalized eigenvalues) and the first Markov parameter."""
-    M = np.block([[A, b[:, None]], [c[None, :], np.array([[d]])]])
-    N = np.zeros_like(M)
-    N[:n, :n] = np.eye(n)
-    with np.errstate(all="ignore"):
-        z = scipy.linalg.eigvals(M, N)
-    z = z[np.isfinite(z) & (np.abs(z) < 1e300)]
-    gain, power = d, np.eye(n)
-    for _ in range(n + 1):
-        if gain != 0.0:
-            break
-        gain = c @ power @ b
-        power = A @ power
-    out = np.zeros(n + 1)
-    poly = gain * np.real(np.poly(z)) if z.size else np.array([gain])
-    out[n + 1 - poly.size :] = poly
-    return out
-
-
-def _leverrier(A, b, c, d):
-    """Faddeev-LeVerrier coefficients, and which numerator coefficients are structurally zero."""
-    n = A.shape[0]
-    absA, absb, absc = np.abs(A), np.abs(b), np.abs(c)
-    den, num = np.zeros(n + 1), np.zeros(n + 1)
-    structural = np.zeros(n + 1, dtype=bool)
-    den[0], num[0], structural[0] = 1.0, d, d == 0.0
-    M, pattern = np.eye(n), np.eye(n)
-    for k in range(1, n + 1):
-        AM = A @ M
-        den[k] = -np.trace(AM) / k
-        num[k] = c @ M @ b + d * den[k]
-        structural[k] = d == 0.0 and absc @ pattern @ absb == 0.0
-        M = AM + den[k] * np.eye(n)
-        pattern = absA @ pattern + np.eye(n)
-    return num, den, structural
-
-
-def _zeros_at_origin(A, b, c, d, rtol):
-    """Number of vanishing low-frequency moments of ``d + c (sI - A)^-1 b`` (0 if A is singular)."""
-    try:
-        inv = np.linalg.inv(A)
-    except np.linalg.LinAlgError:
-        return 0
-    if not np.all(np.isfinite(inv)) or np.linalg.cond(A) > MAX_MOMENT_CONDITION:
-        return 0
-    norm_c = np.linalg.norm(c)
-    x = b.copy()
-    count = 0
-    for k in range(A.shape[0]):
-        x = inv @ x
-        moment = (d if k == 0 else 0.0) - c @ x  # H(s) = d - sum_k c A^-(k+1) b s^k
-        bound = norm_c * np.linalg.norm(x) + (abs(d) if k == 0 else 0.0)
-        if abs(moment) > rtol * bound:
-            break
-        count += 1
-    return count
+        """Transfer function ``output/input`` (round-off safe, :meth:`TransferFunction.from_lti`)."""
+        return TransferFunction.from_lti(self.channel(output, input))
 
 
 def plant_state_space(p: TableParameters) -> TableStateSpace:
@@ -242,7 +169,7 @@ def plant_state_space(p: TableParameters) -> TableStateSpace:
     B_w = np.array([0.0, 1.0 / m, 0.0, 0.0, 0.0])
     C = {"z": A[1].copy(), "x": np.eye(5)[0], "v": np.eye(5)[1], "dp": np.eye(5)[2]}
     D = {"z": (0.0, 1.0 / m), "x": (0.0, 0.0), "v": (0.0, 0.0), "dp": (0.0, 0.0)}
-    return TableStateSpace(A, B_i, B_w, C, D, PLANT_STATES, input_name="u_i")
+    return TableStateSpace.build(A, B_i, B_w, C, D, PLANT_STATES, input_name="u_i")
 
 
 def feedback_row(p: TableParameters) -> np.ndarray:

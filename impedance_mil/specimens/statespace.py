@@ -24,13 +24,14 @@ a given ``z`` (the lab does not use them).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numba
 import numpy as np
 
 from ..errors import ConfigError
+from ..lti import StateSpace
 from ..systems import TransferFunction
-from ..units import TWO_PI
 
 #: Stability limit of classical RK4 on the imaginary axis, |lambda| h <= 2 sqrt(2).
 RK4_STABILITY_LIMIT = 2.0 * np.sqrt(2.0)
@@ -101,25 +102,24 @@ class SpecimenStateSpace:
         """Interface force ``w`` [lbf] for state ``x`` and table acceleration ``z`` [in/s**2]."""
         return float(self.C @ x + self.D * z)
 
+    @cached_property
+    def system(self) -> StateSpace:
+        """The same model as one :class:`~impedance_mil.lti.StateSpace`, input ``"z"``, output ``"w"``."""
+        return StateSpace(self.A, self.B, self.C, self.D, 0.0, ("z",), ("w",))
+
     def frequency_response(self, f_hz) -> np.ndarray:
         """Complex ``w/z`` [lbf per in/s**2] at frequencies ``f_hz`` [Hz].
 
         Evaluated as ``C (j w I - A)^-1 B + D`` by a linear solve at each
-        frequency, which stays accurate for lightly damped, widely spaced
-        modes where polynomial coefficients would not.
+        frequency (:meth:`StateSpace.frequency_response`), which stays
+        accurate for lightly damped, widely spaced modes where polynomial
+        coefficients would not.
         """
-        f = np.atleast_1d(np.asarray(f_hz, dtype=float))
-        out = np.full(f.shape, self.D, dtype=complex)
-        if self.n_states == 0:
-            return out
-        pencil = (1j * TWO_PI * f.ravel())[:, None, None] * np.eye(self.n_states) - self.A
-        rhs = np.broadcast_to(self.B.astype(complex)[:, None], (f.size, self.n_states, 1))
-        out += (np.linalg.solve(pencil, rhs)[..., 0] @ self.C).reshape(f.shape)
-        return out
+        return self.system.frequency_response(np.atleast_1d(np.asarray(f_hz, dtype=float)))
 
     def poles(self) -> np.ndarray:
         """Eigenvalues of ``A`` [rad/s]."""
-        return np.linalg.eigvals(self.A) if self.n_states else np.zeros(0, complex)
+        return self.system.poles()
 
     def is_stable(self) -> bool:
         """True when every pole has a negative real part."""
@@ -139,9 +139,7 @@ class SpecimenStateSpace:
 
     def transfer_function(self) -> TransferFunction:
         """``w/z`` as a :class:`~impedance_mil.systems.TransferFunction` (s in rad/s)."""
-        if self.n_states == 0:
-            return TransferFunction.constant(self.D)
-        return TransferFunction.from_ss(self.A, self.B, self.C, self.D)
+        return TransferFunction.from_lti(self.system)
 
     def to_dict(self) -> dict:
         """Plain lists, for result files."""
