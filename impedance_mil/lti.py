@@ -22,7 +22,7 @@ Examples
 >>> sys = StateSpace([[-2.0]], [[2.0]], [[1.0]], 0.0, inputs=("u",), outputs=("y",))
 >>> round(float(sys.dcgain()), 12)
 1.0
->>> abs(sys.frequency_response(2.0 / (2 * np.pi))) ** 2  # |2/(2j + 2)|^2
+>>> round(float(abs(sys.frequency_response(2.0 / (2 * np.pi))) ** 2), 12)  # |2/(2j + 2)|^2
 0.5
 """
 
@@ -236,7 +236,7 @@ class StateSpace:
         for start in range(0, flat.size if n else 0, BATCH_POINTS):
             chunk = flat[start : start + BATCH_POINTS]
             pencil = chunk[:, None, None] * eye - self.A
-            out[start : start + chunk.size] += self.C @ _solve_each(pencil, self.B)
+            out[start : start + chunk.size] += _resolvent(pencil, self.B, self.C)
         res = np.moveaxis(out, 0, -1).reshape((p, m) + pts.shape)
         return res[0, 0] if self.is_siso else res
 
@@ -429,16 +429,16 @@ class StateSpace:
         return f"StateSpace({self.shape_text()}, {kind}, inputs={list(self.inputs)}, outputs={list(self.outputs)})"
 
 
-def _solve_each(pencil: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """``pencil[k]^-1 B`` for each k; a singular pencil (a point on a pole) gives ``inf``."""
+def _resolvent(pencil: np.ndarray, B: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """``C pencil[k]^-1 B`` for each k; a singular pencil (a point on a pole) gives ``inf``."""
     rhs = np.broadcast_to(B.astype(complex), (pencil.shape[0],) + B.shape)
     try:
-        return np.linalg.solve(pencil, rhs)
+        return C @ np.linalg.solve(pencil, rhs)
     except np.linalg.LinAlgError:
-        out = np.empty(rhs.shape, dtype=complex)
+        out = np.empty((pencil.shape[0], C.shape[0], B.shape[1]), dtype=complex)
         for k in range(pencil.shape[0]):
             try:
-                out[k] = np.linalg.solve(pencil[k], rhs[k])
+                out[k] = C @ np.linalg.solve(pencil[k], rhs[k])
             except np.linalg.LinAlgError:
                 out[k] = np.inf
         return out

@@ -31,9 +31,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+import control
 import numpy as np
 
 from ..errors import ConfigError, UnstableDesignError, UnstableSystemError
+from ..lti import StateSpace
 from ..systems import TransferFunction
 
 #: The controller forms, in the order the report introduces them.
@@ -75,6 +77,68 @@ class TableModel:
     def nyquist_hz(self) -> float:
         """Nyquist frequency of the controller loop [Hz] (:data:`ANALOG_NYQUIST_HZ` for an analog loop)."""
         return 0.5 / self.loop_time_s if self.loop_time_s > 0 else ANALOG_NYQUIST_HZ
+
+    @classmethod
+    def from_control(
+        cls, sys, loop_time_s: float, *, output: str = "z", command: str = "u", force: str = "w"
+    ) -> TableModel:
+        """A table given as a python-control ``StateSpace`` or ``TransferFunction`` (continuous).
+
+        ``sys`` has the inputs ``command`` (reference position [in]) and
+        ``force`` (test-article force [lbf]) and the output ``output`` (table
+        acceleration [in/s**2]), named as python-control names its signals
+        (``control.ss(..., inputs=["u", "w"], outputs=["z"])``), in the
+        internal units.  A state space is converted round-off safe
+        (:meth:`TransferFunction.from_lti`); a transfer function's
+        polynomials are taken as they are (python-control's own ss -> tf
+        leaves round-off: ``8e-12 s**4`` in z/u of Table 4.1, so give the
+        state space).
+
+        Parameters
+        ----------
+        sys : control.StateSpace or control.TransferFunction
+        loop_time_s : float
+            Controller loop time [s] (0 for an analog loop).
+        output, command, force : str
+            Signal names in ``sys``.
+
+        Raises
+        ------
+        ConfigError
+            ``sys`` is discrete, or lacks a named signal (the message lists the names it has).
+
+        Examples
+        --------
+        >>> import control
+        >>> sys = control.ss([[-100.0]], [[100.0, 0.0]], [[-100.0]], [[100.0, 0.25]], inputs=["u", "w"], outputs=["z"])
+        >>> table = TableModel.from_control(sys, 5e-4)
+        >>> table.H_zu.relative_degree, table.H_zw.dcgain()
+        (0, 0.25)
+        """
+        lti = StateSpace.from_control(sys)
+        if lti.is_discrete:
+            raise ConfigError("table", "a continuous python-control system (dt = 0)", lti.dt)
+        H_zu, H_zw = (_control_path(sys, lti, output, name) for name in (command, force))
+        return cls(H_zu, H_zw, float(loop_time_s))
+
+    def to_control(self, *, output: str = "z", command: str = "u", force: str = "w"):
+        """``H_zu`` and ``H_zw`` as one python-control ``TransferFunction`` (inputs ``command``, ``force``)."""
+        return control.tf(
+            [[self.H_zu.num, self.H_zw.num]],
+            [[self.H_zu.den, self.H_zw.den]],
+            inputs=[command, force],
+            outputs=[output],
+        )
+
+
+def _control_path(sys, lti: StateSpace, output: str, input: str) -> TransferFunction:
+    """One path of a python-control system: its own polynomials for a transfer function
+    (a MIMO one is realized channel by channel, with every other channel's states), the
+    round-off-safe conversion for a state space."""
+    path = lti.channel(output, input)  # checks the names
+    if isinstance(sys, control.TransferFunction):
+        return TransferFunction.from_control(sys[lti.output_index(output), lti.input_index(input)])
+    return TransferFunction.from_lti(path)
 
 
 @dataclass(frozen=True)

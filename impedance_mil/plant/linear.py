@@ -131,7 +131,7 @@ class LinearTable:
     Examples
     --------
     >>> tbl = LinearTable(TableParameters.report_default(), delay="none")
-    >>> tbl.tf("x", "u").dcgain()
+    >>> round(tbl.tf("x", "u").dcgain(), 12)
     1.0
     """
 
