@@ -56,7 +56,8 @@ def ss_to_tf(sys: StateSpace, rtol: float = ROUNDOFF_RTOL) -> tuple[np.ndarray, 
       trailing coefficient ``c_j`` of ``s**j`` that is negligible on the
       system's low-frequency scale ``omega`` (the smallest pole magnitude
       not at the origin), ``|c_j| omega**j <= 1e-12 max_i |c_i| omega**i``
-      (:data:`ORIGIN_ZERO_RTOL`).  Round-off from the model's own basis or a
+      (:data:`ORIGIN_ZERO_RTOL`); for polynomials in z, ``omega = 1`` (the
+      unit circle).  Round-off from the model's own basis or a
       change of units is far below that (6e-17 measured on the table); a genuine
       coefficient is dropped only when zeros are that close to the origin
       (one zero within 1e-12 omega, or k zeros whose magnitudes multiply to
@@ -102,7 +103,9 @@ def ss_to_tf(sys: StateSpace, rtol: float = ROUNDOFF_RTOL) -> tuple[np.ndarray, 
     num_sp = np.zeros(n + 1)
     num_sp[n + 1 - nums.shape[1] :] = nums[0]
     leading_zeros = _zeros_at_infinity(A, b, c, d, rtol)
-    omega_lo = _low_frequency_scale(A)
+    # The scale the trailing coefficients are judged on: the slowest pole in s; in z the
+    # unit circle, where the response lives (z = 0 is a delay, not a frequency).
+    omega_lo = 1.0 if sys.is_discrete else _low_frequency_scale(A)
     den_sp = np.asarray(den_sp, dtype=float)
     candidates = []
     for num, den in ((num_lv, den_lv), (num_sp, den_sp), (_zeros_numerator(A, b, c, d, n), den_sp)):
