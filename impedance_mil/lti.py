@@ -37,7 +37,7 @@ import scipy.linalg
 import scipy.signal
 from numpy.typing import ArrayLike
 
-from .errors import ConfigError
+from .errors import ConfigError, ImproperSystemError
 from .units import TWO_PI
 
 #: Frequency points solved per batch by :meth:`StateSpace.evaluate` (bounds the memory of the batch).
@@ -330,7 +330,7 @@ class StateSpace:
 
         Raises
         ------
-        ConfigError
+        ImproperSystemError
             ``num/den`` is improper (more zeros than poles).
         """
         num = np.trim_zeros(np.atleast_1d(np.asarray(num, dtype=float)), "f")
@@ -339,10 +339,9 @@ class StateSpace:
             raise ConfigError("den", "a non-zero denominator", den.tolist())
         num = num if num.size else np.zeros(1)
         if num.size > den.size:
-            raise ConfigError(
-                "transfer function",
-                "a proper function (deg num <= deg den)",
-                f"relative degree {den.size - num.size}",
+            raise ImproperSystemError(
+                f"an improper transfer function (relative degree {den.size - num.size}) has no "
+                "state-space realization"
             )
         if den.size == 1:
             return cls(

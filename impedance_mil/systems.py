@@ -364,8 +364,8 @@ class TransferFunction:
 
         Raises
         ------
-        ValueError
-            The function is improper (a :class:`~impedance_mil.errors.ConfigError`).
+        ImproperSystemError
+            The function is improper.
         """
         return StateSpace.from_polynomials(self.num, self.den, 0.0, input, output)
 

@@ -7,7 +7,7 @@ import scipy.signal
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from impedance_mil.errors import ConfigError
+from impedance_mil.errors import ConfigError, ImproperSystemError
 from impedance_mil.implement.realization import discrete_zpk
 from impedance_mil.lti import StateSpace
 from impedance_mil.plant import TableParameters, plant_state_space
@@ -99,6 +99,11 @@ def test_bad_matrices_are_refused_naming_the_shapes():
         StateSpace([[-1.0]], [1.0], [1.0], 0.0, dt=-1e-3)
     with pytest.raises(ConfigError, match="inputs: expected 1 distinct names"):
         StateSpace([[-1.0]], [1.0], [1.0], inputs=("u", "w"))
+    # An improper function has no realization: the same error as TransferFunction's algebra.
+    with pytest.raises(ImproperSystemError, match="relative degree -1"):
+        StateSpace.from_polynomials([1.0, 0.0, 0.0], [1.0, 1.0])
+    with pytest.raises(ImproperSystemError):
+        TransferFunction([1.0, 0.0], [1.0]).to_lti()
 
 
 def test_the_callers_arrays_are_copied_not_frozen():
