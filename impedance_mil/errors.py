@@ -95,6 +95,10 @@ class MotionRefused(ImilError, ValueError):
     """A motion exceeds the table's limits and the caller did not ask to run it anyway."""
 
 
+class DesignRefused(ImilError, ValueError):
+    """A design violates a constraint the run requires (e.g. III, passivity) and the caller did not force it."""
+
+
 class NotEvaluatedError(ImilError, KeyError):
     """A result was asked for something it does not hold (e.g. constraints at an unevaluated f_c)."""
 

@@ -36,7 +36,7 @@ import typer
 from ..config import parse_overrides
 from ..errors import ConfigError
 from ..lab.choices import Choices, frf_test, mil_test, tracking_test
-from ..lab.descriptions import FRF_DELAYS, FrfTest, TrackingTest
+from ..lab.descriptions import FRF_DELAYS, REQUIRED_CONSTRAINTS, FrfTest, TrackingTest, parse_required
 from ..lab.experiments import ControlledRun
 from ..lab.pretest import Pretest
 from ..lab.runfile import MODEL_LOOP, write_run_file
@@ -110,7 +110,15 @@ OutOpt = typer.Option(..., "-o", "--output", help="Run file to write (HDF5).")
 ReportOpt = typer.Option(None, "--report", help="Also write the HTML report of the run.")
 JsonOpt = typer.Option(False, "--json", help="Print the result as JSON (no progress display).")
 ForceOpt = typer.Option(
-    False, "--force", help="Run a motion that exceeds the table's limits (the interlocks will stop it)."
+    False,
+    "--force",
+    help="Run a motion that exceeds the table's limits, or a design that violates a required "
+    "constraint (the interlocks will stop it).",
+)
+RequireOpt = typer.Option(
+    ",".join(REQUIRED_CONSTRAINTS),
+    "--require",
+    help="Constraints the design must satisfy before it runs: I, II, III (comma-separated), all or none.",
 )
 OverwriteOpt = typer.Option(False, "--overwrite", help="Replace existing output files.")
 
@@ -139,11 +147,13 @@ class Outcome:
     elapsed_s: float = 0.0
 
 
-def check(outcome: Outcome, *, force: bool) -> None:
-    """Pre-test check of ``outcome.test`` (refuses a motion over the limits unless ``force``)."""
+def check(outcome: Outcome, *, force: bool, required: tuple[str, ...] = REQUIRED_CONSTRAINTS) -> None:
+    """Pre-test check of ``outcome.test``: refuses a motion over the limits, or a design that
+    violates a ``required`` constraint, unless ``force``."""
     test = outcome.test
     outcome.pre = test.pretest()
     outcome.warnings = refuse_or_warn(outcome.pre.findings(test.motion.motion, test.motion.time_scale), force)
+    outcome.warnings += test.check_design(required, force)
 
 
 def perform(outcome: Outcome, out: Path, report: Path | None, *, quiet: bool) -> Outcome:
@@ -239,14 +249,16 @@ def run_command(
     force: bool,
     overwrite: bool,
     as_json: bool,
+    require: str = ",".join(REQUIRED_CONSTRAINTS),
 ) -> None:
     """Shared body of ``simulate`` and ``track``: check outputs, perform, print, exit status."""
     out = output_path("-o", output, overwrite)
     page = output_path("--report", report, overwrite)
     if page is not None and page.resolve() == out.resolve():
         raise ConfigError("--report", "a path other than the run file (-o)", str(report))
+    required = parse_required(require)
     outcome = Outcome(test)
-    check(outcome, force=force)
+    check(outcome, force=force, required=required)
     warn(outcome.warnings)
     try:
         perform(outcome, out, page, quiet=as_json)
@@ -294,6 +306,7 @@ def simulate(
     report: Path | None = ReportOpt,
     as_json: bool = JsonOpt,
     force: bool = ForceOpt,
+    require: str = RequireOpt,
     overwrite: bool = OverwriteOpt,
 ) -> None:
     """MIL run: the table imitates a virtual isolation system under a ground motion (Section 9)."""
@@ -317,7 +330,7 @@ def simulate(
             seed=seed,
         )
     )
-    run_command(test, output, report, force=force, overwrite=overwrite, as_json=as_json)
+    run_command(test, output, report, force=force, overwrite=overwrite, as_json=as_json, require=require)
 
 
 def track(
@@ -344,6 +357,7 @@ def track(
     report: Path | None = ReportOpt,
     as_json: bool = JsonOpt,
     force: bool = ForceOpt,
+    require: str = RequireOpt,
     overwrite: bool = OverwriteOpt,
 ) -> None:
     """Acceleration tracking: the table reproduces the ground motion under the specimen (Section 8)."""
@@ -365,7 +379,7 @@ def track(
             seed=seed,
         )
     )
-    run_command(test, output, report, force=force, overwrite=overwrite, as_json=as_json)
+    run_command(test, output, report, force=force, overwrite=overwrite, as_json=as_json, require=require)
 
 
 def kp_list(text: str) -> list[float]:

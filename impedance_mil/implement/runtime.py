@@ -203,7 +203,9 @@ class MILRuntime:
         )
         self.x_vs = np.zeros(n_vs, float if self.python_vs else self.dtype)
         self.work = np.zeros(4 * max(n_vs, 1), self.dtype)
-        self.vs_tick = vs_tick_function(vs, self.dtype) if isinstance(vs, DefinedVS) else no_vs_tick(self.dtype)
+        self.vs_tick = (
+            vs_tick_function(vs, self.dtype) if isinstance(vs, DefinedVS) else no_vs_tick(self.dtype)
+        )
         self.controller_arrays = ControllerArrays(
             self.m_z, self.m_w, self.s_z, self.s_w, self.tmp, self.compensated
         )

@@ -254,6 +254,28 @@ def _report_choices(fc_hz, feedback, precision) -> tuple[float, str, str]:
     )
 
 
+def tracking_design(params: TableParameters, fc_hz: float | None = None) -> ControllerDesign:
+    """The tracking controller of :func:`run_tracking` (``z_vs = a_g``) at ``fc_hz`` [Hz] (default the report's)."""
+    fc_hz = report_config().design.fc_hz if fc_hz is None else fc_hz
+    return design_controller(table_model(params), form="tracking", fc_hz=fc_hz, emit_warnings=False)
+
+
+def mil_design(params: TableParameters, vs, fc_hz: float | None = None) -> ControllerDesign:
+    """The standardized MIL controller of :func:`run_mil` for ``vs`` at ``fc_hz`` [Hz] (default the report's).
+
+    Made with ``linearization="open-fh"``: its constraint verdicts are the
+    conservative open-``f_h`` ones (see :func:`run_mil`).
+    """
+    fc_hz = report_config().design.fc_hz if fc_hz is None else fc_hz
+    return design_controller(
+        table_model(params),
+        virtual_model(vs, linearization="open-fh"),
+        form="standardized",
+        fc_hz=fc_hz,
+        emit_warnings=False,
+    )
+
+
 def _runtime(params, design, vs, fc_hz, precision, leak_hz):
     controller = discretize(design.H_uz, design.H_uw, params.loop_time, fc_hz=fc_hz, leak_hz=leak_hz)
     return MILRuntime(controller, vs=vs, precision=precision)
@@ -313,6 +335,7 @@ def run_tracking(
     seed: int = 0,
     substeps: int | str | None = None,
     limits=None,
+    design: ControllerDesign | None = None,
 ) -> ControlledRun:
     """Acceleration tracking, ``z_vs = a_g`` (Section 8, Eq 1-6).
 
@@ -334,9 +357,13 @@ def run_tracking(
         Virtual table override, controller arithmetic (default the report's,
         single), drift leak [Hz], and :func:`~impedance_mil.lab.loop.simulate`
         options (``substeps`` default the report's policy).
+    design : ControllerDesign, optional
+        The design to run (default :func:`tracking_design` at ``fc_hz``; a
+        caller that checked its verdicts before the run passes it here).
     """
     fc_hz, feedback, precision = _report_choices(fc_hz, feedback, precision)
-    design = design_controller(table_model(params), form="tracking", fc_hz=fc_hz, emit_warnings=False)
+    if design is None:
+        design = tracking_design(params, fc_hz)
     runtime = _runtime(params, design, None, fc_hz, precision, leak_hz)
     if not compensate:
         runtime.m_w[...] = 0
@@ -372,6 +399,7 @@ def run_mil(
     seed: int = 0,
     substeps: int | str | None = None,
     limits=None,
+    design: ControllerDesign | None = None,
 ) -> ControlledRun:
     """MIL run imitating the virtual system ``vs`` (Section 9; standardized controller).
 
@@ -388,13 +416,8 @@ def run_mil(
     :func:`~impedance_mil.design.design_controller` for the linearized verdicts.
     """
     fc_hz, feedback, precision = _report_choices(fc_hz, feedback, precision)
-    design = design_controller(
-        table_model(params),
-        virtual_model(vs, linearization="open-fh"),
-        form="standardized",
-        fc_hz=fc_hz,
-        emit_warnings=False,
-    )
+    if design is None:
+        design = mil_design(params, vs, fc_hz)
     runtime = _runtime(params, design, vs, fc_hz, precision, leak_hz)
     return _controlled(
         params,

@@ -116,13 +116,14 @@ def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def check_limits(pa, limits, y, m, uv, sat_ticks):
+def check_limits(pa, limits, y, m, held):
     """Safety check of one tick: ``(TripCause, offending value)`` (``TripCause.NONE``: all clear).
 
     ``limits`` is a :class:`~impedance_mil.lab.structures.LimitValues`, ``m``
-    this loop's :class:`~impedance_mil.lab.structures.Measurements`, ``uv`` the
-    last valve command [V] and ``sat_ticks`` the number of consecutive loops
-    with the valve command at its limit.
+    this loop's :class:`~impedance_mil.lab.structures.Measurements`, ``held``
+    the plant's :data:`~impedance_mil.lab.structures.HELD_STATE` record: the
+    last valve command ``u_v`` [V], ``sat`` (consecutive loops with the valve
+    command at its limit) and the running averages of the valve interlocks.
     """
     for i in range(y.shape[0]):
         if not math.isfinite(y[i]):
@@ -136,8 +137,16 @@ def check_limits(pa, limits, y, m, uv, sat_ticks):
     force = pa[PA_AREA] * m.dp
     if abs(force) > limits.actuator_force:
         return TripCause.ACTUATOR_FORCE, force
-    if sat_ticks * pa[PA_LOOP] > limits.valve_saturation_time:
-        return TripCause.VALVE_SATURATION, uv
+    if held.sat * pa[PA_LOOP] > limits.valve_saturation_time:
+        return TripCause.VALVE_SATURATION, held.u_v
+    if held.duty > limits.valve_duty:
+        return TripCause.VALVE_DUTY, held.duty
+    current_rms = math.sqrt(held.current_sq)
+    if current_rms > limits.valve_current:
+        return TripCause.VALVE_CURRENT, current_rms
+    slew_rms = math.sqrt(held.slew_sq)
+    if slew_rms > limits.command_slew:
+        return TripCause.COMMAND_OSCILLATION, slew_rms
     return TripCause.NONE, 0.0
 
 
@@ -171,7 +180,7 @@ def sense_and_check(plant, noise_row, time_s):
     held = plant.held[0]
     held.z = z
     held.w = w
-    cause, value = check_limits(plant.table, plant.limits, plant.y, m, held.u_v, held.sat)
+    cause, value = check_limits(plant.table, plant.limits, plant.y, m, held)
     return m, cause, value
 
 
@@ -203,15 +212,24 @@ def mil_step(control, vs_tick, a_g, w):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def hydraulic_command(pa, held, m, u):
+def hydraulic_command(pa, limits, held, m, u):
     """:func:`hydraulic_step` for the command ``u`` [in] of the loop read as ``m``; updates ``held``.
 
     ``held`` is the one-element :data:`~impedance_mil.lab.structures.HELD_STATE`
     array: the previous loop's measurements feed the valve command, this loop's
-    replace them.
+    replace them.  The running averages of the valve interlocks (saturation
+    duty, mean-square current and mean-square slew of the valve command) are
+    exponentially weighted with the time constant ``limits.interlock_window``
+    [s], as a servo controller's duty and rms monitors are.
     """
     h = held[0]
+    loop = pa[PA_LOOP]
     uv, sat, current = hydraulic_step(pa, u, h.x_prev, h.dp_prev, h.sat)
+    weight = min(1.0, loop / limits.interlock_window)
+    slew = (uv - h.u_v) / loop
+    h.duty += weight * ((1.0 if sat > 0 else 0.0) - h.duty)
+    h.current_sq += weight * (current * current - h.current_sq)
+    h.slew_sq += weight * (slew * slew - h.slew_sq)
     h.u_v = uv
     h.sat = sat
     h.current = current
@@ -222,7 +240,7 @@ def hydraulic_command(pa, held, m, u):
 @njit(cache=True, inline="always", error_model="numpy")
 def command(plant, m, u):
     """Stage 4 on a :class:`VirtualPlant`: the hydraulic loop (:func:`hydraulic_command`)."""
-    hydraulic_command(plant.table, plant.held, m, u)
+    hydraulic_command(plant.table, plant.limits, plant.held, m, u)
 
 
 @njit(cache=True, inline="always", error_model="numpy")

@@ -207,7 +207,9 @@ class VirtualTable:
         return m
 
     def write_command(self, u: float) -> None:
-        kernels.hydraulic_command(self.plant.table, self.plant.held, self._sense()[0], float(u))
+        kernels.hydraulic_command(
+            self.plant.table, self.plant.limits, self.plant.held, self._sense()[0], float(u)
+        )
 
     def advance(self) -> None:
         p = self.plant

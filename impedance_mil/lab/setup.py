@@ -92,6 +92,13 @@ def sensor_arrays(suite: SensorSuite, feedback: str = "lc", quantize: bool = Tru
     )
 
 
+#: Frequency [Hz] of the full-scale valve-command oscillation that sets the default
+#: divergence detector (``SafetyLimits.command_slew``): the top of the report's
+#: 15-50 Hz error band; a command that swings its whole range faster than this is
+#: not tracking a ground motion.
+OSCILLATION_HZ = 50.0
+
+
 @dataclass(frozen=True)
 class SafetyLimits:
     """Interlocks of the virtual controller; a run that crosses one stops cleanly.
@@ -106,9 +113,28 @@ class SafetyLimits:
     actuator_force : float, optional
         |A_p dP| limit [lbf]; default 95 % of the stall force A_p (P_s - P_R).
     valve_saturation_time : float
-        Longest time the valve command may sit at its limit [s].
+        Longest time the valve command may sit at its limit without a break [s].
     divergence : float
         Displacement beyond which the simulation is declared divergent [in].
+    valve_duty : float
+        Largest fraction of time the valve command may sit at its limit,
+        averaged over ``interlock_window`` (a command that chatters between
+        the limits never stays saturated 0.25 s, but is saturated most of the
+        time).  Default 0.5.
+    valve_current : float, optional
+        Largest rms valve current [mA] over ``interlock_window``; default the
+        table's rated current (``rated_current``, 25 mA for the report's MOOG
+        760F264A: above it the valve is driven beyond its rating).
+    command_slew : float, optional
+        Largest rms rate of change of the valve command [V/s] over
+        ``interlock_window``: the detector of a run going unstable, whose
+        command grows at high frequency (a sign flip every few loops).
+        Default that of a full-scale valve command oscillating at
+        :data:`OSCILLATION_HZ` (50 Hz, the top of the report's error bands):
+        ``2 pi 50 u_v,max / sqrt 2`` (2221 V/s for a 10 V valve command).
+    interlock_window : float
+        Averaging time [s] of ``valve_duty``, ``valve_current`` and
+        ``command_slew`` (exponential weighting, time constant).  Default 0.25 s.
     """
 
     stroke: float = 3.0
@@ -116,29 +142,55 @@ class SafetyLimits:
     actuator_force: float | None = None
     valve_saturation_time: float = 0.25
     divergence: float = 20.0
+    valve_duty: float = 0.5
+    valve_current: float | None = None
+    command_slew: float | None = None
+    interlock_window: float = 0.25
 
     def __post_init__(self):
-        for key in ("stroke", "velocity", "valve_saturation_time", "divergence"):
+        for key in ("stroke", "velocity", "valve_saturation_time", "divergence", "interlock_window"):
             value = getattr(self, key)
             if not (np.isfinite(value) and value > 0):
                 raise ConfigError(f"limits.{key}", "a positive finite number", value)
         if self.actuator_force is not None and not self.actuator_force > 0:
             raise ConfigError("limits.actuator_force", "a positive force [lbf]", self.actuator_force)
+        if not (np.isfinite(self.valve_duty) and 0 < self.valve_duty <= 1):
+            raise ConfigError("limits.valve_duty", "a fraction in (0, 1]", self.valve_duty)
+        for key, unit in (("valve_current", "current [mA]"), ("command_slew", "rate [V/s]")):
+            value = getattr(self, key)
+            if value is not None and not (np.isfinite(value) and value > 0):
+                raise ConfigError(f"limits.{key}", f"a positive {unit}", value)
 
     @classmethod
     def disabled(cls) -> SafetyLimits:
         """Only NaN and divergence checks remain (for studies beyond the rig's limits)."""
-        return cls(stroke=1e9, velocity=1e9, actuator_force=1e12, valve_saturation_time=1e9, divergence=1e3)
+        return cls(
+            stroke=1e9,
+            velocity=1e9,
+            actuator_force=1e12,
+            valve_saturation_time=1e9,
+            divergence=1e3,
+            valve_duty=1.0,
+            valve_current=1e12,
+            command_slew=1e15,
+        )
 
     def kernel_values(self, table) -> LimitValues:
-        """The thresholds for ``table`` (a NonlinearTable; it sets the default actuator force)."""
+        """The thresholds for ``table`` (a NonlinearTable: it sets the default force, current and slew)."""
         force = 0.95 * table.max_force if self.actuator_force is None else self.actuator_force
+        current = table.spool_limit if self.valve_current is None else self.valve_current
+        full_scale = 2.0 * np.pi * OSCILLATION_HZ * table.valve_command_limit / np.sqrt(2.0)
+        slew = full_scale if self.command_slew is None else self.command_slew
         return LimitValues(
             stroke=float(self.stroke),
             velocity=float(self.velocity),
             actuator_force=float(force),
             valve_saturation_time=float(self.valve_saturation_time),
             divergence=float(self.divergence),
+            valve_duty=float(self.valve_duty),  # 1 never trips (the duty cannot exceed 1)
+            valve_current=float(current),
+            command_slew=float(slew),
+            interlock_window=float(self.interlock_window),
         )
 
     def to_dict(self) -> dict:

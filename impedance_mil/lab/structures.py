@@ -149,7 +149,9 @@ class LimitValues(NamedTuple):
     """Interlock thresholds for the safety kernel (:meth:`SafetyLimits.kernel_values`).
 
     ``stroke`` [in], ``velocity`` [in/s], ``actuator_force`` [lbf],
-    ``valve_saturation_time`` [s], ``divergence`` [in].
+    ``valve_saturation_time`` [s], ``divergence`` [in], ``valve_duty`` [-],
+    ``valve_current`` [mA rms], ``command_slew`` [V/s rms] and their averaging
+    time ``interlock_window`` [s] (see :class:`~impedance_mil.lab.setup.SafetyLimits`).
     """
 
     stroke: float
@@ -157,13 +159,20 @@ class LimitValues(NamedTuple):
     actuator_force: float
     valve_saturation_time: float
     divergence: float
+    valve_duty: float
+    valve_current: float
+    command_slew: float
+    interlock_window: float
 
 
 #: What the virtual plant carries from one stage, or loop, to the next (a one-element
 #: record array, written in place): the previous loop's measured ``x_prev`` [in] and
 #: ``dp_prev`` [psi] (the hydraulic loop's feedback), ``sat`` (consecutive loops with
 #: the valve command at its limit), this loop's valve command ``u_v`` [V] and current
-#: [mA], and the true ``z`` [in/s^2] and ``w`` [lbf] of this loop's sensing.
+#: [mA], the true ``z`` [in/s^2] and ``w`` [lbf] of this loop's sensing, and the
+#: running averages of the valve interlocks (exponentially weighted over
+#: ``LimitValues.interlock_window``): ``duty`` (fraction of loops saturated),
+#: ``current_sq`` [mA^2] and ``slew_sq`` [(V/s)^2] (the command's loop-to-loop change).
 HELD_STATE = np.dtype(
     [
         ("x_prev", np.float64),
@@ -173,6 +182,9 @@ HELD_STATE = np.dtype(
         ("current", np.float64),
         ("z", np.float64),
         ("w", np.float64),
+        ("duty", np.float64),
+        ("current_sq", np.float64),
+        ("slew_sq", np.float64),
     ],
     align=True,
 )

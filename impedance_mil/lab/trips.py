@@ -11,7 +11,8 @@ message).
 
 The names are those run files have always carried (``"stroke"``,
 ``"velocity"``, ``"actuator_force"``, ``"valve_saturation"``, ``"nan"``,
-``"divergence"``): :attr:`TripCause.label` is the member's name in lower
+``"divergence"``; since issue 18 also ``"valve_duty"``, ``"valve_current"`` and
+``"command_oscillation"``, see :class:`~impedance_mil.lab.setup.SafetyLimits`): :attr:`TripCause.label` is the member's name in lower
 case, so a new cause is one line of the enumeration (its code and the unit of
 the value it reports), plus the check that raises it.
 """
@@ -43,6 +44,9 @@ class TripCause(IntEnum):
     VALVE_SATURATION = 4, "V"
     NAN = 5, ""
     DIVERGENCE = 6, "in"
+    VALVE_DUTY = 7, ""
+    VALVE_CURRENT = 8, "mA"
+    COMMAND_OSCILLATION = 9, "V/s"
 
     unit: str
 

@@ -108,6 +108,38 @@ def test_motion_over_the_limits_is_refused_unless_forced(tmp_path, monkeypatch, 
     assert load_run(out).trip is not None
 
 
+def test_diverging_mil_design_is_refused_and_forced_it_trips(tmp_path, monkeypatch, capsys):
+    # Issue 18, finding 1: a 100 lb basemat (0.03 m_st) gives a design that violates
+    # constraints I, II and III; the run used to complete with exit 0 while the valve
+    # chattered at +-10 V (75 % of samples, 30 mA against the rated 25 mA).
+    out = tmp_path / "m.h5"
+    args = ["simulate", "--set-vs", "m_vs=100 lb", "--pga", "0.3", "--duration", "10", "--json", "-o", out]
+    code, stdout, stderr = imil(monkeypatch, capsys, *args)
+    assert code == 2 and stdout == "" and not out.exists()
+    assert len(stderr.strip().splitlines()) == 1
+    assert "constraint III (passivity) violated" in stderr and "--force" in stderr
+    code, stdout, stderr = imil(monkeypatch, capsys, *args, "--force")
+    assert code == EXIT_ABORTED
+    doc = json.loads(stdout)
+    assert doc["aborted"] is True
+    # The divergence detector trips first (rms slew of the valve command above that of a
+    # full-scale 50 Hz command, 2221 V/s: measured 9600 V/s on this run), within 0.1 s.
+    assert doc["trip"]["limit"] == "command_oscillation" and doc["trip"]["time_s"] < 0.1
+    assert "command_oscillation" in doc["abort_reason"]
+    assert any("constraint III" in w and "running anyway" in w for w in doc["warnings"])
+    saved = load_run(out)
+    assert saved.trip.limit == "command_oscillation" and saved.n_samples > 0
+
+
+def test_require_none_and_a_bad_require_value(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "m.h5"
+    args = ["simulate", "--set-vs", "m_vs=100 lb", "--pga", "0.3", "--duration", "1", "--json", "-o", out]
+    code, stdout, _ = imil(monkeypatch, capsys, *args, "--require", "none")
+    assert code == EXIT_ABORTED and json.loads(stdout)["trip"]["limit"] == "command_oscillation"
+    code, stdout, stderr = imil(monkeypatch, capsys, *args, "--require", "IV", "--overwrite")
+    assert code == 2 and stdout == "" and stderr.startswith("imil: error: --require: ")
+
+
 def test_existing_output_needs_overwrite(tmp_path, monkeypatch, capsys):
     out = tmp_path / "run.h5"
     out.write_bytes(b"precious")

@@ -29,7 +29,12 @@ def test_design_export_and_simulate(imil, tmp_path, vs):
         assert r.returncode == 0, r.stderr
     assert "imil_mil_step" in (tmp_path / "c" / "imil.h").read_text()
     assert "FUNCTION_BLOCK imil_mil" in (tmp_path / "st" / "imil.st").read_text()
-    r = imil("simulate", "--vs", vs, "--pga", "0.3", "--duration", "2", "--json", "-o", "r.h5", cwd=tmp_path)
+    # Both designs violate constraint III at 80 Hz (TFP3 -4.4 deg at 18.8 Hz, the two-storey
+    # frame -11.5 deg at 8.1 Hz): simulate refuses them unless forced (issue 18, finding 1).
+    args = ["simulate", "--vs", vs, "--pga", "0.3", "--duration", "2", "--json", "-o", "r.h5"]
+    r = imil(*args, cwd=tmp_path)
+    assert r.returncode == 2 and "constraint III (passivity) violated" in r.stderr
+    r = imil(*args, "--force", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
     assert out["aborted"] is False and out["simulated_s"] > 1.9

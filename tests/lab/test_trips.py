@@ -19,6 +19,8 @@ from .conftest import report_parameters
 #: Codes and names of the run files written before the enumeration (main at dc9ba1a,
 #: lab.kernels.TRIP_NAMES): old files must keep loading.
 FILE_NAMES = ("", "stroke", "velocity", "actuator_force", "valve_saturation", "nan", "divergence")
+#: Causes added since (issue 18): new codes after the old ones, so the old codes keep their meaning.
+NEW_NAMES = ("valve_duty", "valve_current", "command_oscillation")
 
 
 @pytest.fixture(scope="module")
@@ -29,8 +31,8 @@ def tripped():
 
 
 def test_codes_and_names_are_those_of_the_run_files():
-    assert [int(c) for c in TripCause] == list(range(len(FILE_NAMES)))
-    assert [c.label for c in TripCause][1:] == list(FILE_NAMES[1:])
+    assert [int(c) for c in TripCause] == list(range(len(FILE_NAMES) + len(NEW_NAMES)))
+    assert [c.label for c in TripCause][1:] == list(FILE_NAMES[1:] + NEW_NAMES)
     assert all(TripCause.from_label(c.label) is c for c in TripCause)
     units = {c.label: c.unit for c in TripCause}
     assert units["stroke"] == "in" and units["velocity"] == "in/s" and units["valve_saturation"] == "V"
