@@ -24,6 +24,9 @@ MAX_RECORD_SAMPLES = 1 << 22
 #: Largest ground-motion file read [bytes]: a record of MAX_RECORD_SAMPLES as text is about 60 MB.
 MAX_MOTION_FILE_BYTES = 1 << 28
 
+#: Largest recording file read [bytes]: MAX_RECORD_SAMPLES rows of eight channels as CSV text is about 700 MB.
+MAX_RECORDING_FILE_BYTES = 1 << 31
+
 #: Most oscillator periods of one response spectrum (report Figure 8.1: 100).
 MAX_SPECTRUM_PERIODS = 10_000
 

@@ -28,6 +28,7 @@ def test_every_table_bound_is_documented_with_its_values(key):
     [
         ("MAX_RECORD_SAMPLES", f"{bounds.MAX_RECORD_SAMPLES} samples"),
         ("MAX_MOTION_FILE_BYTES", f"{bounds.MAX_MOTION_FILE_BYTES >> 20} MiB"),
+        ("MAX_RECORDING_FILE_BYTES", f"{bounds.MAX_RECORDING_FILE_BYTES >> 20} MiB"),
         ("MAX_SPECTRUM_PERIODS", f"{bounds.MAX_SPECTRUM_PERIODS} periods"),
         ("MAX_SPECTRUM_STEPS", f"{bounds.MAX_SPECTRUM_STEPS} periods x samples"),
         ("MAX_MULTISINE_ITERATIONS", f"| {bounds.MAX_MULTISINE_ITERATIONS} |"),
