@@ -35,12 +35,16 @@ class FRF:
         Ordinary coherence (0..1); 1 for noiseless periodic data.
     n_averages : int
         Number of periods averaged.
+    std : ndarray or None
+        Standard deviation of the estimate at each line [output unit / input unit]
+        (:mod:`impedance_mil.signals.frf_estimators`), None when not estimated.
     """
 
     frequency_hz: np.ndarray
     response: np.ndarray
     coherence: np.ndarray
     n_averages: int
+    std: np.ndarray | None = None
 
     @property
     def magnitude(self) -> np.ndarray:
@@ -55,7 +59,8 @@ class FRF:
     def band(self, f_min_hz: float, f_max_hz: float) -> FRF:
         """The lines with ``f_min_hz <= f <= f_max_hz`` [Hz]."""
         keep = (self.frequency_hz >= f_min_hz) & (self.frequency_hz <= f_max_hz)
-        return FRF(self.frequency_hz[keep], self.response[keep], self.coherence[keep], self.n_averages)
+        std = None if self.std is None else self.std[keep]
+        return FRF(self.frequency_hz[keep], self.response[keep], self.coherence[keep], self.n_averages, std)
 
 
 def estimate_frf(u, y, n_points: int, sample_rate_hz: float, lines=None, discard_periods: int = 1) -> FRF:
@@ -135,6 +140,17 @@ class FitResult:
         Whether the optimizer reported convergence.
     n_lines : int
         Lines used.
+    log_covariance : ndarray or None
+        Covariance of the natural logarithms of the free parameters (order of
+        ``free``): ``s^2 (J^T J)^-1`` at the optimum, ``J`` the Jacobian of the
+        weighted residuals and ``s^2`` their mean square per degree of freedom
+        (Gauss-Newton linearization; Seber and Wild 1989, Section 5.1).
+    chi2_reduced : float or None
+        ``s^2``: the weighted residual's mean square per degree of freedom (about 1
+        when the weights are the inverse standard deviations of the data and the
+        model is right).
+    free : tuple of str
+        The fitted parameters.
     """
 
     parameters: dict
@@ -142,6 +158,18 @@ class FitResult:
     rms_log_error: float
     success: bool
     n_lines: int
+    log_covariance: np.ndarray | None = None
+    chi2_reduced: float | None = None
+    free: tuple = ()
+
+    def confidence_interval(self, name: str, z: float = 1.96) -> tuple[float, float]:
+        """``(low, high)`` of a free parameter, ``exp(log p +- z sigma)`` (z = 1.96: 95 %)."""
+        if self.log_covariance is None or name not in self.free:
+            raise ConfigError(f"fit.{name}", "a fitted parameter with a covariance", name)
+        i = self.free.index(name)
+        sigma = float(np.sqrt(max(self.log_covariance[i, i], 0.0)))
+        value = self.parameters[name]
+        return (value * float(np.exp(-z * sigma)), value * float(np.exp(z * sigma)))
 
 
 def _log_residual(h_model, h_meas, weight):
@@ -160,6 +188,7 @@ def fit_frf(
     f_range_hz: tuple[float, float] | None = None,
     coherence_weighting: bool = True,
     bounds_factor: float = 10.0,
+    weights=None,
 ) -> FitResult:
     """Fit the positive parameters of ``model`` to ``frf`` on log-magnitude and phase.
 
@@ -180,6 +209,11 @@ def fit_frf(
         the inverse of the H1 estimate's relative standard deviation.
     bounds_factor : float
         Each free parameter stays within ``[x0/bounds_factor, x0*bounds_factor]``.
+    weights : array_like, optional
+        Weight of each line of ``frf`` (after ``f_range_hz``), in place of the
+        coherence weighting: ``sqrt(2) |H| / std`` makes each weighted residual
+        of unit variance (the log residual's real and imaginary parts each have
+        variance ``std^2 / (2 |H|^2)``).
 
     Returns
     -------
@@ -192,7 +226,11 @@ def fit_frf(
     data = frf if f_range_hz is None else frf.band(*f_range_hz)
     if data.frequency_hz.size < len(free):
         raise ConfigError("fit.f_range_hz", f"at least {len(free)} lines", data.frequency_hz.size)
-    if coherence_weighting:
+    if weights is not None:
+        weight = np.asarray(weights, dtype=float)
+        if weight.shape != data.frequency_hz.shape or not np.all(np.isfinite(weight) & (weight > 0)):
+            raise ConfigError("fit.weights", f"{data.frequency_hz.size} positive finite weights")
+    elif coherence_weighting:
         c = np.clip(data.coherence, 0.0, 1.0 - 1e-6)
         weight = np.sqrt(c / (1.0 - c))
         weight = np.minimum(weight, 100.0 * np.median(weight) + 1e-12)
@@ -214,10 +252,25 @@ def fit_frf(
     fitted.update({n: float(np.exp(t)) for n, t in zip(free, sol.x)})
     r = np.log(model(fitted, data.frequency_hz) / data.response)
     rms = float(np.sqrt(np.mean(r.real**2 + np.angle(np.exp(1j * r.imag)) ** 2)))
+    covariance, chi2 = log_covariance(sol.jac, sol.fun)
     return FitResult(
         parameters=fitted,
         initial=dict(initial),
         rms_log_error=rms,
         success=bool(sol.success),
         n_lines=int(data.frequency_hz.size),
+        log_covariance=covariance,
+        chi2_reduced=chi2,
+        free=tuple(free),
     )
+
+
+def log_covariance(jacobian, residual) -> tuple[np.ndarray | None, float | None]:
+    """``(s^2 (J^T J)^+, s^2)`` of a least-squares fit, ``s^2 = |r|^2 / (n - p)`` (None without dof)."""
+    J = np.asarray(jacobian, dtype=float)
+    r = np.asarray(residual, dtype=float)
+    dof = r.size - J.shape[1]
+    if dof <= 0:
+        return None, None
+    s2 = float(r @ r) / dof
+    return s2 * np.linalg.pinv(J.T @ J), s2
