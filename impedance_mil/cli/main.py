@@ -18,7 +18,21 @@ import typer
 
 from ..errors import ImilError
 from ..plausibility import one_line_warning
-from . import campaign, demo, design_cmd, export, motion, report_cmd, simulate, table, vs
+from . import (
+    campaign,
+    demo,
+    design_cmd,
+    drive,
+    evaluate,
+    export,
+    identify,
+    motion,
+    recording,
+    report_cmd,
+    simulate,
+    table,
+    vs,
+)
 
 # typer >= 0.20 parses with its own copy of click (typer._click); older versions with click itself.
 try:
@@ -47,6 +61,10 @@ app.command("track")(simulate.track)
 app.command("frf")(simulate.frf)
 app.command("report")(report_cmd.report)
 app.add_typer(campaign.app, name="campaign")
+app.add_typer(drive.app, name="drive")
+app.command("identify")(identify.identify)
+app.command("evaluate")(evaluate.evaluate)
+app.add_typer(recording.app, name="recording")
 
 #: Exit status for bad input (configuration, data files, usage).
 EXIT_BAD_INPUT = 2

@@ -33,7 +33,6 @@ from ..errors import ConfigError
 from ..implement.runtime import precision_dtype
 from ..signals import GroundMotion
 from ..signals.recordings import Recording
-from ..units import in_s2_to_g
 from ..virtual.codegen import compiled
 from ..virtual.files import VSSpec
 from ..virtual.system import DefinedVS
@@ -238,11 +237,3 @@ def compare_summaries(measured: Mapping[str, Any], predicted: Mapping[str, Any])
         diff = None if m is None or p is None else float(m) - float(p)
         out[key] = {"measured": m, "predicted": p, "difference": diff}
     return out
-
-
-def prediction_overlay(prediction: RunResult, n_samples: int) -> dict[str, np.ndarray]:
-    """The prediction's table acceleration [g] over the measured samples, for the page's histories."""
-    z = np.full(n_samples, np.nan)
-    k = min(n_samples, prediction.n_samples)
-    z[:k] = prediction.channels["z_meas"][:k]
-    return {"table acceleration, prediction": in_s2_to_g(z)}

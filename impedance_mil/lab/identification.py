@@ -70,6 +70,12 @@ class TableIdentification:
         """RMS misfit ``|log(H_model/H_meas)|`` over the fitted lines (dimensionless)."""
         return self.fit.rms_log_error
 
+    def intervals(self, z: float = 1.96) -> dict[str, tuple[float, float]]:
+        """95 % confidence interval (``z`` = 1.96) of each identified parameter, from the fit's Jacobian."""
+        if self.fit.log_covariance is None:
+            return {}
+        return {name: self.fit.confidence_interval(name, z) for name in self.fit.free}
+
     def summary(self) -> dict:
         """Identified values: oil-column frequency [Hz] and damping, d, valve poles [Hz]."""
         p = self.parameters
@@ -91,6 +97,7 @@ def identify_table(
     delay: str = "first-order",
     f_range_hz: tuple[float, float] = (0.25, 100.0),
     coherence_weighting: bool = True,
+    weights=None,
 ) -> TableIdentification:
     """Fit the linear model's system parameters to a measured FRF of the bare table.
 
@@ -111,6 +118,8 @@ def identify_table(
         Band of the fit [Hz].
     coherence_weighting : bool
         Weight lines by coherence (see :func:`fit_frf`).
+    weights : array_like, optional
+        Weight of each line in the band instead (``sqrt(2) |H| / std``, see :func:`fit_frf`).
 
     Returns
     -------
@@ -131,7 +140,13 @@ def identify_table(
         return model_response(_with(initial, values), output, f_hz, delay)
 
     fit = fit_frf(
-        frf, model, start, free=list(free), f_range_hz=f_range_hz, coherence_weighting=coherence_weighting
+        frf,
+        model,
+        start,
+        free=list(free),
+        f_range_hz=f_range_hz,
+        coherence_weighting=coherence_weighting,
+        weights=weights,
     )
     return TableIdentification(
         parameters=_with(initial, fit.parameters), initial=initial, fit=fit, output=output, delay=delay

@@ -323,6 +323,11 @@ def fit_rational(
     weight = np.asarray(weights, dtype=float)
     w0 = 2.0 * np.pi * float(f.max())
     x = 2j * np.pi * f / w0
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # trial steps may overflow
+        return _fit(x, h, weight, q, order, m, w0)
+
+
+def _fit(x, h, weight, q: int, order: int, m: int, w0: float) -> RationalFit:
     real, upper = _split(_sk_poles(x, h, weight, q, order, m))
     layout = _Layout(real.size, upper.size, m, q)
     theta0 = _pole_params(real, upper)

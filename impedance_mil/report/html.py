@@ -384,14 +384,15 @@ def loops_figure(loops: Sequence[ForceDisplacement]) -> Figure:
     return fig
 
 
-def render_run_html(view: RunView) -> str:
-    """The HTML page of one run: status, metrics, histories, spectra, loops, configuration."""
+def render_run_html(view: RunView, extra_sections: Sequence[str] = ()) -> str:
+    """The HTML page of one run: status, metrics (then ``extra_sections``), histories, spectra, loops, configuration."""
     sections = [
         f"<h2>Status</h2><p>{escape(view.status)}; {view.time_s.size} samples, "
         f"time step {fmt_number(view.time_step)} s.</p>"
     ]
     if view.metrics:
         sections.append("<h2>Metrics</h2>" + key_value_table(view.metrics, ("metric", "value")))
+    sections.extend(extra_sections)
     if view.time_s.size > 1:
         sections.append(
             "<h2>Histories</h2>"
