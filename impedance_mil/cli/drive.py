@@ -19,6 +19,7 @@ motion (one line, nothing written).
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import typer
 
@@ -98,7 +99,7 @@ def multisine(
     params = table_parameters(table, sets)
     peak_in = quantity("--peak", _REPORT.frf.peak_in if peak is None else peak, "inch", "positive")
     length = REPORT_PERIOD_S if period is None else quantity("--period", period, "second", "positive")
-    chosen = {"f_min_hz": f_min, "f_max_hz": f_max, "n_lines": lines, "n_periods": periods}
+    chosen: dict[str, Any] = {"f_min_hz": f_min, "f_max_hz": f_max, "n_lines": lines, "n_periods": periods}
     ms = design_multisine(
         peak=peak_in,
         sample_rate_hz=1.0 / params.loop_time,

@@ -18,6 +18,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import overload
 
 from rich.console import Console
 from rich.progress import (
@@ -88,6 +89,10 @@ class Written:
     paths: list[Path] = field(default_factory=list)
 
 
+@overload
+def output_path(option: str, path: Path, overwrite: bool) -> Path: ...
+@overload
+def output_path(option: str, path: Path | None, overwrite: bool) -> Path | None: ...
 def output_path(option: str, path: Path | None, overwrite: bool) -> Path | None:
     """Check an output path before anything runs: its folder exists, and it is new or ``--overwrite``."""
     if path is None:

@@ -9,13 +9,33 @@ from __future__ import annotations
 
 import numpy as np
 
+from impedance_mil.signals.drive import multisine_metadata, write_drive
 from impedance_mil.signals.multisine import design_multisine
 
 
 def multisine(n_points=4096, rate=2000.0, n_lines=160, f_min=1.0, f_max=100.0, periods=6, peak=0.05):
     return design_multisine(
-        peak=peak, n_points=n_points, sample_rate_hz=rate, n_lines=n_lines, f_min_hz=f_min,
-        f_max_hz=f_max, n_periods=periods, iterations=20,
+        peak=peak,
+        n_points=n_points,
+        sample_rate_hz=rate,
+        n_lines=n_lines,
+        f_min_hz=f_min,
+        f_max_hz=f_max,
+        n_periods=periods,
+        iterations=20,
+    )
+
+
+def write_multisine_drive(folder, ms, overwrite=False):
+    """The drive files of ``ms`` in ``folder`` (command in mm), as ``imil drive multisine`` writes them."""
+    return write_drive(
+        folder,
+        "multisine",
+        ms.signal,
+        sample_rate_hz=ms.sample_rate_hz,
+        unit="mm",
+        multisine=multisine_metadata(ms, "min-crest"),
+        overwrite=overwrite,
     )
 
 

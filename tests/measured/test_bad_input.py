@@ -8,11 +8,10 @@ import pytest
 
 from impedance_mil.lab.recorded import sensor_ranges
 from impedance_mil.lab.setup import default_sensors
-from impedance_mil.signals.drive import multisine_metadata, write_drive
 from impedance_mil.signals.recordings import ChannelMap, write_recording
 from impedance_mil.units import G0
 
-from .synthetic import multisine
+from .synthetic import multisine, write_multisine_drive
 
 CHANNELS = ["t=time[s]", "u=cmd[mm]", "z=acc[g]"]
 MAP = ChannelMap.parse(CHANNELS)
@@ -21,8 +20,7 @@ MAP = ChannelMap.parse(CHANNELS)
 @pytest.fixture()
 def lab(tmp_path):
     ms = multisine(n_points=1024, n_lines=40, periods=3)
-    write_drive(tmp_path, "multisine", ms.signal, sample_rate_hz=ms.sample_rate_hz, unit="mm",
-                multisine=multisine_metadata(ms, "min-crest"))
+    write_multisine_drive(tmp_path, ms)
     t = np.arange(ms.signal.size) / ms.sample_rate_hz
     z = 0.01 * np.gradient(np.gradient(ms.signal, t), t)  # well inside the accelerometer range
     return tmp_path, {"t": t, "u": ms.signal, "z": z}
@@ -34,8 +32,18 @@ def _write(folder, channels, name="rec.csv", cmap=MAP):
 
 def _identify(imil, folder, rec, *extra, channels=CHANNELS):
     args = [a for c in channels for a in ("--channel", c)]
-    return imil("identify", rec, "--drive", folder / "multisine.json", *args, "--order", "4",
-                "-o", folder / "t.toml", *extra)
+    return imil(
+        "identify",
+        rec,
+        "--drive",
+        folder / "multisine.json",
+        *args,
+        "--order",
+        "4",
+        "-o",
+        folder / "t.toml",
+        *extra,
+    )
 
 
 def _refused(out, folder, *words):
@@ -49,8 +57,12 @@ def _refused(out, folder, *words):
 def test_a_column_missing_from_the_recording(imil, lab):
     folder, ch = lab
     rec = _write(folder, ch)
-    _refused(_identify(imil, folder, rec, channels=["t=time[s]", "u=cmd[mm]", "z=accel[g]"]), folder,
-             "rec.csv", "no column 'accel'")
+    _refused(
+        _identify(imil, folder, rec, channels=["t=time[s]", "u=cmd[mm]", "z=accel[g]"]),
+        folder,
+        "rec.csv",
+        "no column 'accel'",
+    )
 
 
 def test_a_channel_missing_from_the_map(imil, lab):
@@ -62,8 +74,12 @@ def test_a_channel_missing_from_the_map(imil, lab):
 def test_an_unknown_unit(imil, lab):
     folder, ch = lab
     rec = _write(folder, ch)
-    _refused(_identify(imil, folder, rec, channels=["t=time[s]", "u=cmd[mm]", "z=acc[furlongs]"]), folder,
-             "z=acc[furlongs]", "unit of acceleration")
+    _refused(
+        _identify(imil, folder, rec, channels=["t=time[s]", "u=cmd[mm]", "z=acc[furlongs]"]),
+        folder,
+        "z=acc[furlongs]",
+        "unit of acceleration",
+    )
 
 
 def test_unequal_channel_lengths(imil, lab):
@@ -72,8 +88,12 @@ def test_unequal_channel_lengths(imil, lab):
     with h5py.File(path, "w") as fh:
         fh["cmd"] = ch["u"] * 25.4
         fh["acc"] = ch["z"][:-5] / G0
-    _refused(_identify(imil, folder, path, "--rate", "2000", channels=["u=cmd[mm]", "z=acc[g]"]), folder,
-             "rec.h5", "unequal length")
+    _refused(
+        _identify(imil, folder, path, "--rate", "2000", channels=["u=cmd[mm]", "z=acc[g]"]),
+        folder,
+        "rec.h5",
+        "unequal length",
+    )
 
 
 def test_non_uniform_time(imil, lab):
@@ -112,8 +132,13 @@ def test_drive_of_another_length(imil, lab):
 def test_drive_of_other_lines(imil, lab):
     folder, ch = lab
     other = multisine(n_points=1024, n_lines=40, f_min=150.0, f_max=300.0, periods=3)
-    _refused(_identify(imil, folder, _write(folder, {**ch, "u": other.signal})), folder, "rec.csv",
-             "lines of", "multisine.json")
+    _refused(
+        _identify(imil, folder, _write(folder, {**ch, "u": other.signal})),
+        folder,
+        "rec.csv",
+        "lines of",
+        "multisine.json",
+    )
 
 
 def test_clipped_channel_refused_unless_allowed(imil, lab):
@@ -129,9 +154,24 @@ def test_clipped_channel_refused_unless_allowed(imil, lab):
 
 def test_evaluate_without_the_force_of_a_mil_test(imil, lab, tmp_path):
     folder, ch = lab
-    rec = _write(folder, {"t": ch["t"], "a_g": ch["z"], "z": ch["z"]}, cmap=ChannelMap.parse(
-        ["t=time[s]", "a_g=ag[g]", "z=acc[g]"]))
-    out = imil("evaluate", rec, "--vs", "SD2", "--channel", "t=time[s]", "--channel", "a_g=ag[g]",
-               "--channel", "z=acc[g]", "-o", folder / "e.h5")
+    rec = _write(
+        folder,
+        {"t": ch["t"], "a_g": ch["z"], "z": ch["z"]},
+        cmap=ChannelMap.parse(["t=time[s]", "a_g=ag[g]", "z=acc[g]"]),
+    )
+    out = imil(
+        "evaluate",
+        rec,
+        "--vs",
+        "SD2",
+        "--channel",
+        "t=time[s]",
+        "--channel",
+        "a_g=ag[g]",
+        "--channel",
+        "z=acc[g]",
+        "-o",
+        folder / "e.h5",
+    )
     assert out.returncode == 2 and "w=COLUMN[UNIT]" in out.stderr and out.stderr.count("\n") == 1
     assert not (folder / "e.h5").exists()

@@ -10,13 +10,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from impedance_mil.lab.identify import identify_recording
 from impedance_mil.lab.identification import model_response
+from impedance_mil.lab.identify import identify_recording
 from impedance_mil.plant import TableParameters
-from impedance_mil.signals.drive import multisine_metadata, read_drive, write_drive
+from impedance_mil.signals.drive import read_drive
 from impedance_mil.signals.recordings import ChannelMap, read_recording, write_recording
 
-from .synthetic import multisine, noisy, pair, steady_response, zpk_response
+from .synthetic import multisine, noisy, pair, steady_response, write_multisine_drive, zpk_response
 
 MAP = ChannelMap.parse(["u=cmd[mm]", "z=acc[g]"], rate=2000.0)
 #: A table the physical model cannot express: a real valve pole at 7.7 Hz, an oil column
@@ -30,10 +30,7 @@ TRUE_FREQUENCIES = [7.7, 46.9, 67.1]
 
 def _recording(tmp_path, ms, y, name="rec.csv"):
     path = write_recording(tmp_path / name, {"u": ms.signal, "z": y}, MAP)
-    drive = write_drive(
-        tmp_path, "multisine", ms.signal, sample_rate_hz=ms.sample_rate_hz, unit="mm",
-        multisine=multisine_metadata(ms, "min-crest"), overwrite=True,
-    )
+    drive = write_multisine_drive(tmp_path, ms, overwrite=True)
     return read_recording(path, MAP), read_drive(tmp_path / "multisine.json"), drive
 
 

@@ -37,7 +37,9 @@ def test_csv(tmp_path):
     cols = _columns()
     path = tmp_path / "rec.csv"
     lines = ["# recorded by a controller", "time,cmd,acc"]
-    lines += [f"{float(a)!r},{float(b)!r},{float(c)!r}" for a, b, c in zip(cols["time"], cols["cmd"], cols["acc"])]
+    lines += [
+        f"{float(a)!r},{float(b)!r},{float(c)!r}" for a, b, c in zip(cols["time"], cols["cmd"], cols["acc"])
+    ]
     path.write_text("\n".join(lines) + "\n")
     _check(read_recording(path, MAP))
 

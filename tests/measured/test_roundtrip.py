@@ -24,12 +24,18 @@ from impedance_mil.lab.runfile import METRIC_KEYS, write_run_file
 from impedance_mil.lab.setup import ideal_sensors
 from impedance_mil.plant import TableParameters
 from impedance_mil.plant.nonlinear import Friction, NonlinearTable
-from impedance_mil.signals.drive import multisine_metadata, write_drive
 from impedance_mil.signals.recordings import ChannelMap
 
-from .synthetic import multisine
+from .synthetic import multisine, write_multisine_drive
 
-LAB_CHANNELS = ["t=Time[s]", "a_g=ag[g]", "z=table_acc[m/s**2]", "x=lvdt[mm]", "w=load_cells[kN]", "u=cmd[mm]"]
+LAB_CHANNELS = [
+    "t=Time[s]",
+    "a_g=ag[g]",
+    "z=table_acc[m/s**2]",
+    "x=lvdt[mm]",
+    "w=load_cells[kN]",
+    "u=cmd[mm]",
+]
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +55,9 @@ def test_replayed_target_is_the_controllers(mil_run):
     np.testing.assert_array_equal(replay.z_vs, run.z_vs)
     np.testing.assert_array_equal(replay.states, run.vs_states)
     # the controller's arithmetic matters: double precision gives another target
-    assert np.max(np.abs(replay_vs(test.vs, run.a_g, run.w_used, run.loop_time, "double").z_vs - run.z_vs)) > 0
+    assert (
+        np.max(np.abs(replay_vs(test.vs, run.a_g, run.w_used, run.loop_time, "double").z_vs - run.z_vs)) > 0
+    )
 
 
 @pytest.mark.parametrize("suffix", [".csv", ".mat"])
@@ -59,8 +67,20 @@ def test_evaluated_recording_reproduces_the_run_metrics(mil_run, imil, suffix):
     recording = folder / f"test{suffix}"
     run_as_recording(load_run(folder / "run.h5"), recording, ChannelMap.parse(LAB_CHANNELS))
     args = [a for c in LAB_CHANNELS for a in ("--channel", c)]
-    out = imil("evaluate", recording, "--vs", "SD2", *args, "-o", folder / f"eval{suffix}.h5",
-               "--report", folder / f"eval{suffix}.html", "--compare", folder / "run.h5", "--json")
+    out = imil(
+        "evaluate",
+        recording,
+        "--vs",
+        "SD2",
+        *args,
+        "-o",
+        folder / f"eval{suffix}.h5",
+        "--report",
+        folder / f"eval{suffix}.html",
+        "--compare",
+        folder / "run.h5",
+        "--json",
+    )
     assert out.returncode == 0, out.stderr
     got = json.loads(out.stdout)
     for key in METRIC_KEYS:
@@ -88,11 +108,21 @@ def test_identify_recovers_the_virtual_table(tmp_path, imil):
     exp = run_frf(true, table=table, multisine=ms, identify=False, sensors=ideal_sensors(), quantize=False)
     cmap = ChannelMap.parse(["t=time[s]", "u=cmd[mm]", "z=acc[g]"])
     run_as_recording(exp.run, tmp_path / "rec.csv", cmap)
-    write_drive(tmp_path, "multisine", ms.signal, sample_rate_hz=ms.sample_rate_hz, unit="mm",
-                multisine=multisine_metadata(ms, "min-crest"))
-    out = imil("identify", tmp_path / "rec.csv", "--drive", tmp_path / "multisine.json",
-               *[a for c in ("t=time[s]", "u=cmd[mm]", "z=acc[g]") for a in ("--channel", c)],
-               "--delay", "sampled", "--band", "1,100", "-o", tmp_path / "table.toml", "--json")
+    write_multisine_drive(tmp_path, ms)
+    out = imil(
+        "identify",
+        tmp_path / "rec.csv",
+        "--drive",
+        tmp_path / "multisine.json",
+        *[a for c in ("t=time[s]", "u=cmd[mm]", "z=acc[g]") for a in ("--channel", c)],
+        "--delay",
+        "sampled",
+        "--band",
+        "1,100",
+        "-o",
+        tmp_path / "table.toml",
+        "--json",
+    )
     assert out.returncode == 0, out.stderr
     got = json.loads(out.stdout)["parameters"]
     assert got["f_oil_hz"] == pytest.approx(24.0, rel=5e-4)
