@@ -26,7 +26,7 @@ def multisine(n_points=4096, rate=2000.0, n_lines=160, f_min=1.0, f_max=100.0, p
     )
 
 
-def write_multisine_drive(folder, ms, overwrite=False):
+def write_multisine_drive(folder, ms, overwrite=False, file_format="csv"):
     """The drive files of ``ms`` in ``folder`` (command in mm), as ``imil drive multisine`` writes them."""
     return write_drive(
         folder,
@@ -34,6 +34,7 @@ def write_multisine_drive(folder, ms, overwrite=False):
         ms.signal,
         sample_rate_hz=ms.sample_rate_hz,
         unit="mm",
+        file_format=file_format,
         multisine=multisine_metadata(ms, "min-crest"),
         overwrite=overwrite,
     )
