@@ -49,6 +49,25 @@ def steady_response(ms, response):
     return np.tile(np.fft.irfft(h * spectrum, ms.n_points), ms.n_periods)
 
 
+def random_periodic_response(
+    response, n_points=4096, periods=32, rate=2000.0, band_hz=(0.5, 150.0), peak=0.005, seed=1
+):
+    """A random drive (random phases at every bin of ``band_hz``, ``periods`` repeats) and its exact steady state.
+
+    Returns ``u`` [in] and ``y`` [output unit] of the system with frequency response ``response(f_hz)``.
+    """
+    f = np.arange(n_points // 2 + 1) * rate / n_points
+    band = (f >= band_hz[0]) & (f <= band_hz[1])
+    spectrum = np.zeros(f.size, dtype=complex)
+    spectrum[band] = np.exp(2j * np.pi * np.random.default_rng(seed).random(np.count_nonzero(band)))
+    u = np.fft.irfft(spectrum, n_points)
+    u *= peak / np.max(np.abs(u))
+    h = np.zeros(f.size, dtype=complex)
+    h[band] = response(f[band])
+    y = np.fft.irfft(h * np.fft.rfft(u), n_points)
+    return np.tile(u, periods), np.tile(y, periods)
+
+
 def noisy(y, level, seed):
     if level == 0:
         return y

@@ -8,6 +8,9 @@
   (``scipy.signal.freqz``): Hann leakage bias only without noise (measured 0.53 % at
   most), and the magnitude error within 1.96 of Bendat and Piersol's random error
   (Eq 9.90) at 5 % output noise for 95 % of the lines (measured 93.7 %).
+* ``imil identify --segment`` (a random drive, no drive file): the poles of a rational
+  table recovered within 3 sigma of their own 95 % intervals at 1 % noise (measured
+  errors 0.13 %, 0.001 %, 0.012 %; 3 sigma is 2.5 %, 0.08 %, 0.09 %).
 * Drive files: the RMC75E curve layout (two columns, no header) and the CSV layout
   read back to the written samples; an edited data file is refused by its checksum.
 """
@@ -15,6 +18,7 @@
 from __future__ import annotations
 
 import hashlib
+import json
 
 import numpy as np
 import pytest
@@ -23,8 +27,17 @@ import scipy.signal
 from impedance_mil.errors import DataFileError
 from impedance_mil.signals.drive import read_drive, read_drive_values
 from impedance_mil.signals.frf_estimators import synchronous_frf, welch_frf
+from impedance_mil.signals.recordings import ChannelMap, write_recording
 
-from .synthetic import multisine, noisy, pair, steady_response, write_multisine_drive, zpk_response
+from .synthetic import (
+    multisine,
+    noisy,
+    pair,
+    random_periodic_response,
+    steady_response,
+    write_multisine_drive,
+    zpk_response,
+)
 
 TF = zpk_response(
     pair(30.0, 0.05), [complex(-7.7)] + pair(46.9, 0.15) + pair(67.1, 0.3), 1.0, zeros_at_origin=2
@@ -92,6 +105,28 @@ def test_welch_standard_deviation_is_that_of_the_magnitude_error():
     noisier, _ = _butterworth_record(2, 0.2)
     assert np.median(noisier.coherence) < np.median(frf.coherence)
     assert np.median(noisier.std / np.abs(noisier.response)) > 3 * np.median(frf.std / np.abs(frf.response))
+
+
+def test_identify_a_random_drive_with_welch(tmp_path, imil):
+    u, y = random_periodic_response(TF)
+    channels = ["u=cmd[mm]", "z=acc[g]"]
+    write_recording(
+        tmp_path / "rec.csv", {"u": u, "z": noisy(y, 0.01, seed=2)}, ChannelMap.parse(channels, rate=RATE)
+    )
+    args = [a for c in channels for a in ("--channel", c)]
+    out = imil(
+        "identify", tmp_path / "rec.csv", "--rate", "2000", *args, "--segment", "4096", "--model", "tf",
+        "--order", "5", "--num-order", "2", "--band", "1,100", "-o", tmp_path / "t.toml", "--json",
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    got = json.loads(out.stdout)
+    assert got["frf"]["estimator"].startswith("Welch H1") and (tmp_path / "t.toml").is_file()
+    for pole, true in zip(got["poles"], [7.7, 46.9, 67.1]):
+        lo, hi = pole["ci95_frequency_hz"]
+        sigma = np.log(hi / lo) / (2 * 1.959963984540054)
+        assert abs(np.log(pole["frequency_hz"] / true)) < 3 * sigma, pole
+    lo, hi = got["ci95_dc_gain"]
+    assert abs(got["dc_gain"] - 1.0) < 3 * (hi - lo) / (2 * 1.96)
 
 
 @pytest.mark.parametrize("file_format", ["csv", "rmc75e"])
