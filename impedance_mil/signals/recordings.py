@@ -40,11 +40,12 @@ lab's own sensors decide what "clipped" means.
 
 TDMS needs the optional package ``npTDMS`` (``pip install impedance-mil[recordings]``);
 MATLAB v7.3 files are HDF5 and are read with h5py.
+The formats themselves are read and written by
+:mod:`impedance_mil.signals.recording_files`.
 """
 
 from __future__ import annotations
 
-import io
 import os
 import re
 from collections.abc import Mapping, Sequence
@@ -52,14 +53,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
-import scipy.io
 
 from ..bounds import MAX_RECORD_SAMPLES, MAX_RECORDING_FILE_BYTES
 from ..config import quantity, read_toml
-from ..errors import ConfigError, DataFileError, MissingDependencyError
-from ..fileio import atomic_path, read_text
+from ..errors import ConfigError, DataFileError
+from ..fileio import atomic_path
+from .recording_files import WRITTEN, read_columns, recording_format, write_columns
 
 #: Channels of a recording: internal unit and meaning.
 CHANNELS: dict[str, tuple[str, str]] = {
@@ -80,23 +80,12 @@ _DIMENSION = {
     "psi": "pressure (psi, bar, MPa)",
     "force_pound": "force (lbf, kip, N, kN)",
 }
-#: Suffixes of each format.
-FORMATS = {
-    ".csv": "csv",
-    ".txt": "csv",
-    ".h5": "hdf5",
-    ".hdf5": "hdf5",
-    ".hdf": "hdf5",
-    ".mat": "mat",
-    ".tdms": "tdms",
-}
 #: Largest deviation of a time sample from the uniform grid, as a fraction of the step.
 UNIFORM_RTOL = 0.01
 #: Largest relative difference between the recording's rate and the expected one.
 RATE_RTOL = 1e-6
 
 _SPEC_RE = re.compile(r"^\s*([A-Za-z_][A-Za-z_0-9]*)\s*=\s*(.+?)\s*\[([^\[\]]+)\]\s*$")
-_DELIMITERS = (",", ";", "\t")
 
 
 @dataclass(frozen=True)
@@ -327,146 +316,6 @@ class Recording:
         }
 
 
-# ------------------------------------------------------------------ formats
-def _csv_columns(path: Path) -> dict[str, np.ndarray]:
-    """Columns of a CSV with one header line of names (``#`` comment lines before it are skipped)."""
-    text = read_text(path, "a CSV recording", max_bytes=MAX_RECORDING_FILE_BYTES)
-    lines = text.split("\n")
-    start = next((i for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")), None)
-    if start is None:
-        raise DataFileError(path, "empty file: expected a header line of column names, then data")
-    header = lines[start]
-    delimiter = next((d for d in _DELIMITERS if d in header), None)
-    names = [n.strip().strip('"') for n in (header.split(delimiter) if delimiter else header.split())]
-    if len(set(names)) != len(names) or not all(names):
-        raise DataFileError(path, f"line {start + 1}: expected a header of distinct column names")
-    body = "\n".join(ln for ln in lines[start + 1 :] if ln.strip() and not ln.lstrip().startswith("#"))
-    try:
-        data = np.loadtxt(io.StringIO(body), delimiter=delimiter, ndmin=2, dtype=float)
-    except ValueError:
-        raise DataFileError(path, _first_bad_row(lines, start, delimiter, len(names))) from None
-    if data.shape[0] == 0:
-        raise DataFileError(path, "no data rows after the header")
-    if data.shape[1] != len(names):
-        raise DataFileError(path, f"{data.shape[1]} columns of data under a header of {len(names)} names")
-    return {name: data[:, i] for i, name in enumerate(names)}
-
-
-def _first_bad_row(lines: list[str], start: int, delimiter: str | None, n_columns: int) -> str:
-    for number in range(start + 1, len(lines)):
-        line = lines[number].strip()
-        if not line or line.startswith("#"):
-            continue
-        cells = [c.strip() for c in (line.split(delimiter) if delimiter else line.split())]
-        if len(cells) != n_columns:
-            return f"line {number + 1}: {len(cells)} values, expected {n_columns} (one per header name)"
-        for cell in cells:
-            try:
-                float(cell)
-            except ValueError:
-                return f"line {number + 1}: non-numeric value {cell!r}"
-    return "unreadable data rows"
-
-
-def _vector(path: Path, column: str, value: Any) -> np.ndarray:
-    array = np.asarray(value)
-    if array.dtype.kind not in "biuf" or array.ndim > 2 or (array.ndim == 2 and min(array.shape) != 1):
-        raise DataFileError(path, f"{column!r} is not a numeric vector (shape {array.shape})")
-    return array.astype(float).ravel()
-
-
-def _hdf5_columns(path: Path, columns: Sequence[str]) -> tuple[dict[str, np.ndarray], float | None]:
-    """Datasets of an HDF5 file (MATLAB v7.3 included: variables at the root, struct fields as groups)."""
-    out, rate = {}, None
-    try:
-        with h5py.File(path, "r") as fh:
-            for column in columns:
-                key = column.replace(".", "/")
-                node = fh.get(key)
-                if not isinstance(node, h5py.Dataset):
-                    raise DataFileError(path, f"no dataset {column!r} (has: {', '.join(_hdf5_names(fh))})")
-                out[column] = _vector(path, column, node[()])
-                for attr in ("rate_hz", "sample_rate_hz"):
-                    if attr in node.attrs and rate is None:
-                        rate = float(node.attrs[attr])
-    except OSError as exc:
-        raise DataFileError(path, f"cannot read as HDF5 ({exc})") from None
-    return out, rate
-
-
-def _hdf5_names(fh: h5py.File, limit: int = 20) -> list[str]:
-    names: list[str] = []
-    fh.visititems(lambda name, node: names.append(name) if isinstance(node, h5py.Dataset) else None)
-    return [n for n in names if not n.startswith("#")][:limit]
-
-
-def _is_mat73(path: Path) -> bool:
-    with open(path, "rb") as fh:
-        head = fh.read(128)
-    return head.startswith(b"MATLAB 7.3") or (h5py.is_hdf5(path) and not head.startswith(b"MATLAB 5.0"))
-
-
-def _mat_columns(path: Path, columns: Sequence[str]) -> dict[str, np.ndarray]:
-    """Variables (``acc``) or struct fields (``rec.acc``) of a MATLAB v5 or v7.3 file."""
-    if _is_mat73(path):
-        return _hdf5_columns(path, columns)[0]
-    try:
-        data = scipy.io.loadmat(path, squeeze_me=True, struct_as_record=False)
-    except (ValueError, TypeError, OSError, NotImplementedError) as exc:
-        raise DataFileError(path, f"not a readable MATLAB file ({exc})") from None
-    names = [k for k in data if not k.startswith("__")]
-    out = {}
-    for column in columns:
-        node: Any = data
-        for part in re.split(r"[./]", column):
-            node = node.get(part) if isinstance(node, dict) else getattr(node, part, None)
-            if node is None:
-                raise DataFileError(path, f"no variable {column!r} (has: {', '.join(names)})")
-        out[column] = _vector(path, column, node)
-    return out
-
-
-def _tdms_columns(path: Path, columns: Sequence[str]) -> tuple[dict[str, np.ndarray], float | None]:
-    """Channels of an NI TDMS file (``group/channel`` or a unique channel name); rate from ``wf_increment``."""
-    try:
-        from nptdms import TdmsFile  # an optional extra: imported only when a TDMS file is read
-    except ImportError:
-        raise MissingDependencyError(
-            f"{path}: reading TDMS needs the optional package npTDMS (pip install impedance-mil[recordings])"
-        ) from None
-    try:
-        tdms = TdmsFile.read(path)
-    except Exception as exc:  # npTDMS raises many types for a bad file
-        raise DataFileError(path, f"not a readable TDMS file ({exc})") from None
-    found = {f"{g.name}/{c.name}": c for g in tdms.groups() for c in g.channels()}
-    out, rate = {}, None
-    for column in columns:
-        matches = [c for key, c in found.items() if key == column or key.split("/", 1)[1] == column]
-        if len(matches) != 1:
-            problem = "no channel" if not matches else "more than one channel named"
-            raise DataFileError(path, f"{problem} {column!r} (has: {', '.join(found)})")
-        channel = matches[0]
-        out[column] = _vector(path, column, channel[:])
-        increment = channel.properties.get("wf_increment")
-        if increment and rate is None:
-            rate = 1.0 / float(increment)
-    return out, rate
-
-
-def _read_columns(path: Path, fmt: str, columns: Sequence[str]) -> tuple[dict[str, np.ndarray], float | None]:
-    if fmt == "csv":
-        table = _csv_columns(path)
-        missing = [c for c in columns if c not in table]
-        if missing:
-            raise DataFileError(path, f"no column {missing[0]!r} (columns: {', '.join(table)})")
-        return {c: table[c] for c in columns}, None
-    if fmt == "hdf5":
-        return _hdf5_columns(path, columns)
-    if fmt == "mat":
-        return _mat_columns(path, columns), None
-    return _tdms_columns(path, columns)
-
-
 # ------------------------------------------------------------------ checks
 def _check_time(path: Path, spec: ChannelSpec, t: np.ndarray) -> float:
     """The sample rate [Hz] of a uniform time channel; a gap or jitter is refused naming the sample."""
@@ -543,14 +392,6 @@ def clipped_channels(
     return found
 
 
-def recording_format(path: str | Path) -> str:
-    """The format of a recording from its suffix (:data:`FORMATS`)."""
-    fmt = FORMATS.get(Path(path).suffix.lower())
-    if fmt is None:
-        raise DataFileError(path, "unknown recording format: expected " + ", ".join(sorted(FORMATS)))
-    return fmt
-
-
 def read_recording(
     path: str | Path,
     channel_map: ChannelMap,
@@ -593,7 +434,7 @@ def read_recording(
     specs = channel_map.specs
     if not specs:
         raise ConfigError("--channel", "at least one channel, NAME=COLUMN[UNIT]")
-    columns, file_rate = _read_columns(p, fmt, [s.column for s in specs])
+    columns, file_rate = read_columns(p, fmt, [s.column for s in specs])
     raw = {s.channel: columns[s.column] for s in specs}
     lengths = {name: a.size for name, a in raw.items()}
     if len(set(lengths.values())) != 1:
@@ -670,24 +511,8 @@ def write_recording(path: str | Path, channels: Mapping[str, np.ndarray], channe
     columns = {s.column: np.asarray(channels[s.channel], dtype=float) / s.factor for s in channel_map.specs}
     if len({a.size for a in columns.values()}) != 1:
         raise ConfigError("--channel", "channels of equal length")
+    if fmt not in WRITTEN:
+        raise ConfigError("-o", "a .csv, .mat or .h5 file (TDMS is read, not written)", p.name)
     with atomic_path(p) as tmp:
-        if fmt == "csv":
-            with open(tmp, "w", encoding="utf-8") as fh:
-                np.savetxt(
-                    fh,
-                    np.column_stack(list(columns.values())),
-                    delimiter=",",
-                    fmt="%.17g",
-                    header=",".join(columns),
-                    comments="",
-                )
-        elif fmt == "mat":
-            with open(tmp, "wb") as fh:  # a file object: savemat would append ".mat" to the name
-                scipy.io.savemat(fh, {name: a.reshape(-1, 1) for name, a in columns.items()}, format="5")
-        elif fmt == "hdf5":
-            with h5py.File(tmp, "w") as fh:
-                for name, a in columns.items():
-                    fh.create_dataset(name, data=a)
-        else:
-            raise ConfigError("-o", "a .csv, .mat or .h5 file (TDMS is read, not written)", p.name)
+        write_columns(tmp, fmt, columns)
     return p
