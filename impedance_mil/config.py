@@ -46,7 +46,7 @@ from typing import Any
 import pint
 
 from .errors import ConfigError, DataFileError
-from .fileio import read_text
+from .fileio import MAX_NUMBER_DIGITS, read_text
 from .units import PINT_DEFINITIONS
 
 _UREG = pint.UnitRegistry()
@@ -58,10 +58,6 @@ CHECKS = ("positive", "nonnegative", "any", "fraction")
 
 #: Longest value with a unit [characters]; pint's parser takes minutes over very long strings.
 MAX_QUANTITY_CHARS = 200
-
-#: Most digits in one run of digits of a number: a double carries 17 significant
-#: digits, and Python takes minutes to convert a number of millions of digits.
-MAX_NUMBER_DIGITS = 100
 
 #: Largest TOML file read [bytes]; the largest shipped configuration is a few kB.
 MAX_TOML_BYTES = 1 << 20

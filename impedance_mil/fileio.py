@@ -16,7 +16,10 @@ from the suffix (matplotlib) must be told the format.  The file is created
 exclusively, with the permissions of the process umask.
 
 :func:`read_text` reads a UTF-8 file and turns every way it can fail into a
-one-line :class:`~impedance_mil.errors.DataFileError` naming the file.
+one-line :class:`~impedance_mil.errors.DataFileError` naming the file;
+:func:`parse_json` parses JSON the same way, refusing before parsing what
+would make Python's parser recurse 3000 levels or convert a number of
+thousands of digits (:data:`MAX_JSON_DEPTH`, :data:`MAX_NUMBER_DIGITS`).
 
 Integrity helpers: :func:`file_sha256` (the checksum recorded with a file
 and checked before it is trusted again), :func:`stale_temporaries` /
@@ -30,6 +33,7 @@ This module sits at the bottom of the package (standard library and
 from __future__ import annotations
 
 import hashlib
+import json
 import math
 import os
 import re
@@ -48,6 +52,20 @@ try:  # POSIX; Windows locks with msvcrt
 except ImportError:  # pragma: no cover - not POSIX
     fcntl = None  # type: ignore[assignment]
     import msvcrt
+
+#: Most digits in one run of digits of a number: a double carries 17 significant
+#: digits, and Python takes minutes to convert a number of millions of digits.
+MAX_NUMBER_DIGITS = 100
+
+#: Deepest nesting of objects and arrays in a JSON file the package reads: design files,
+#: run summaries and campaign records nest 5 levels at most.
+MAX_JSON_DEPTH = 32
+
+#: What the check before parsing looks at in a JSON text: a string (skipped whole; an
+#: unclosed one ends the scan), a bracket (nesting) and a long run of digits (number size).
+_JSON_SCAN_RE = re.compile(
+    r'"(?:[^"\\\n]|\\.)*"|"|[\[\]{}]|(?<![0-9])[0-9]{' + str(MAX_NUMBER_DIGITS + 1) + ",}"
+)
 
 #: Names :func:`temporary_name` makes: ``.<name>.<tag>-<pid>-<8 hex digits>``.
 _TEMPORARY_RE = re.compile(r"^\..+\.(tmp|old)-[0-9]+-[0-9a-f]{8}$")
@@ -202,6 +220,70 @@ def read_text(path: str | os.PathLike, expected: str = "a text file", max_bytes:
         raise DataFileError(p, "not a text file") from None
     except OSError as exc:
         raise DataFileError(p, f"unreadable ({exc.strerror or exc})") from None
+
+
+def parse_json(text: str, where: str | os.PathLike) -> Any:
+    """Parse a JSON text, with a one-line :class:`DataFileError` naming ``where`` for every failure.
+
+    Refused before parsing: arrays and objects nested more than
+    :data:`MAX_JSON_DEPTH` deep, a run of more than :data:`MAX_NUMBER_DIGITS`
+    digits outside strings.  Refused while parsing: ``NaN``, ``Infinity`` and
+    numbers that overflow a double (``1e400``): JSON has no such numbers.
+
+    Raises
+    ------
+    DataFileError
+        Not valid JSON, nested too deep, or a number that is not a finite double.
+
+    Examples
+    --------
+    >>> parse_json('{"a": [1, 2.5]}', "f.json")
+    {'a': [1, 2.5]}
+    >>> parse_json("[" * 40 + "]" * 40, "f.json")
+    Traceback (most recent call last):
+    ...
+    impedance_mil.errors.DataFileError: f.json: line 1: arrays or objects nested more than 32 deep
+    """
+    depth = 0
+    for match in _JSON_SCAN_RE.finditer(text):
+        token = match.group()
+        if token in ("[", "{"):
+            depth += 1
+            if depth > MAX_JSON_DEPTH:
+                line = text.count("\n", 0, match.start()) + 1
+                raise DataFileError(
+                    where, f"line {line}: arrays or objects nested more than {MAX_JSON_DEPTH} deep"
+                )
+        elif token in ("]", "}"):
+            depth = max(depth - 1, 0)
+        elif token == '"':
+            break  # an unclosed string: the parser reports it
+        elif token[0] != '"':
+            line = text.count("\n", 0, match.start()) + 1
+            raise DataFileError(where, f"line {line}: a number of more than {MAX_NUMBER_DIGITS} digits")
+    try:
+        return json.loads(text, parse_constant=_no_constant, parse_float=_finite_float)
+    except json.JSONDecodeError as exc:
+        raise DataFileError(where, f"not valid JSON ({exc.msg} at line {exc.lineno})") from None
+    except _NotAJsonNumber as exc:
+        raise DataFileError(where, f"not valid JSON ({exc})") from None
+    except (RecursionError, ValueError):  # a case the scan above missed
+        raise DataFileError(where, "not valid JSON (nested too deep or a number too large)") from None
+
+
+class _NotAJsonNumber(ValueError):
+    """NaN, Infinity or a number beyond the range of a double in a JSON text."""
+
+
+def _no_constant(name: str) -> float:
+    raise _NotAJsonNumber(f"{name} is not a JSON number")
+
+
+def _finite_float(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise _NotAJsonNumber(f"{text[:40]} is beyond the range of a double")
+    return value
 
 
 def json_safe(value: Any) -> Any:

@@ -24,6 +24,7 @@ leaves nothing half-written.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -31,13 +32,14 @@ from pathlib import Path
 from typing import Any
 
 from ..config import quantity
-from ..errors import ConfigError, DataFileError
-from ..fileio import atomic_write_text, json_safe, read_text
+from ..errors import ConfigError, DataFileError, ImilError
+from ..fileio import atomic_write_text, json_safe, parse_json, read_text
 from ..plant.parameters import FIELDS as TABLE_FIELDS
 from ..plausibility import check_table
 from ..systems import TransferFunction
 from .constraints import ConstraintResult
 from .controller import ControllerDesign, FilterSpec
+from .filters import FAMILIES
 from .forms import FORMS, REFERENCE_INPUT
 
 #: Value of the "format" key.
@@ -112,19 +114,18 @@ def load_design(path: str | os.PathLike) -> ControllerDesign:
     Raises
     ------
     DataFileError
-        Missing or unreadable file, not JSON, wrong format or version, a
-        missing field, a malformed transfer function (a coefficient that is
-        not a finite number, e.g. a boolean), or table parameters that are
-        not numbers, out of range or physically impossible
+        One line naming the file and the key: missing or unreadable file, not
+        JSON (or nested deeper than :data:`~impedance_mil.fileio.MAX_JSON_DEPTH`,
+        or a number of more than :data:`~impedance_mil.fileio.MAX_NUMBER_DIGITS`
+        digits), wrong format or version, a missing field or one of the wrong
+        type (a boolean or a string where a number belongs, ``"constraints":
+        "x"``), a malformed transfer function (a coefficient that is not a
+        finite number, a zero denominator), or table parameters that are not
+        numbers, out of range or physically impossible
         (:mod:`impedance_mil.plausibility`).
     """
     p = Path(path)
-    text = read_text(p, "a design file")
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise DataFileError(p, f"not valid JSON ({exc.msg} at line {exc.lineno})") from None
-    return design_from_dict(doc, p)
+    return design_from_dict(parse_json(read_text(p, "a design file"), p), p)
 
 
 def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> ControllerDesign:
@@ -137,88 +138,225 @@ def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> Control
     """
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise DataFileError(where, f"not an impedance-mil design file (expected format {FORMAT!r})")
-    if doc.get("version") != VERSION:
+    version = doc.get("version")
+    if isinstance(version, bool) or version != VERSION:  # true == 1 in Python
         raise DataFileError(
-            where, f"design file version {doc.get('version')!r} is not supported (expected {VERSION})"
+            where, f"design file version {_shown(version)} is not supported (expected {VERSION})"
         )
     missing = [k for k in _REQUIRED if k not in doc]
     if missing:
         raise DataFileError(where, f"missing field {missing[0]!r}")
-    if doc["form"] not in FORMS:
-        raise DataFileError(where, f"form {doc['form']!r} is not one of {', '.join(FORMS)}")
-    for key in ("H_uz", "H_uw", "H_ufh"):
-        _check_coefficients(doc[key], key, where)
-    _check_table(doc["table"], where)
     try:
-        H = {
-            k: (None if doc[k] is None else TransferFunction.from_dict(doc[k]))
-            for k in ("H_uz", "H_uw", "H_ufh")
-        }
-        flt = doc["filter"]
-        spec = FilterSpec(
-            str(flt["family"]),
-            int(flt["order_z"]),
-            int(flt["order_w"]),
-            int(flt.get("order_fh", 0)),
-            float(flt.get("ripple_db", 0.5)),
-            None if flt.get("fc_w_hz") is None else float(flt["fc_w_hz"]),
+        return _design(doc)
+    except ConfigError as exc:
+        raise DataFileError(where, str(exc)) from None
+
+
+def _design(doc: dict[str, Any]) -> ControllerDesign:
+    """The design of a document with every field present (ConfigError naming the key)."""
+    form = doc["form"]
+    if not isinstance(form, str) or form not in FORMS:
+        raise ConfigError("form", "one of " + ", ".join(FORMS), _shown(form))
+    reference = doc.get("reference", REFERENCE_INPUT[form])
+    if reference != REFERENCE_INPUT[form]:
+        raise ConfigError(
+            "reference", f"{REFERENCE_INPUT[form]!r} (the {form} form's reference)", _shown(reference)
         )
-        constraints = tuple(
-            ConstraintResult(**{k: (v if v is not None else math.nan) for k, v in c.items()})
-            for c in doc["constraints"]
-        )
-        fc, loop = float(doc["fc_hz"]), float(doc["loop_time_s"])
-        feas = doc["feasible_fc_hz"]
-        feas = None if feas is None else (float(feas[0]), float(feas[1]))
-    except (KeyError, TypeError, ValueError, IndexError, OverflowError) as exc:
-        raise DataFileError(where, f"malformed design ({exc})") from None
+    H = {key: _transfer_function(doc[key], key) for key in ("H_uz", "H_uw", "H_ufh")}
     if H["H_uz"] is None or H["H_uw"] is None:
-        raise DataFileError(where, "H_uz and H_uw must be transfer functions")
+        raise ConfigError("H_uz/H_uw", "transfer functions ({'num': [...], 'den': [...]})", None)
+    # the sign convention is informative, but a file that states another one was not written
+    # for this reading of H_uw's sign (Eq. 6-7): refuse it rather than flip the command
+    sign = f"u = H_uz*{reference} + H_uw*w" + (" + H_ufh*f_h" if H["H_ufh"] is not None else "")
+    if doc.get("sign_convention", sign) != sign:
+        raise ConfigError("sign_convention", repr(sign), _shown(doc["sign_convention"]))
     for name, tf in H.items():
         if tf is not None and not tf.is_proper:
-            raise DataFileError(
-                where, f"{name} is improper: a design file holds filtered, proper controllers"
+            raise ConfigError(
+                name,
+                "a proper transfer function, not an improper one (a design file holds filtered controllers)",
             )
-    if not (fc > 0 and loop >= 0):
-        raise DataFileError(where, "fc_hz must be positive and loop_time_s non-negative")
+    fc = _number("fc_hz", doc["fc_hz"], "positive")
+    loop = _number("loop_time_s", doc["loop_time_s"], "nonnegative")
+    if loop > 0 and fc >= 0.5 / loop:
+        raise ConfigError("fc_hz", f"a cut-off below the Nyquist frequency of loop_time_s {loop:g} s", fc)
+    feas = doc["feasible_fc_hz"]
+    if feas is not None:
+        if not isinstance(feas, list) or len(feas) != 2:
+            raise ConfigError("feasible_fc_hz", "null or a list [low, high] in Hz", _shown(feas))
+        feas = tuple(_number(f"feasible_fc_hz[{i}]", v, "nonnegative") for i, v in enumerate(feas))
+    _check_table(doc["table"])
     return ControllerDesign(
-        form=doc["form"],
-        reference=doc.get("reference", REFERENCE_INPUT[doc["form"]]),
+        form=form,
+        reference=reference,
         fc_hz=fc,
-        filter=spec,
+        filter=_filter(doc["filter"], loop),
         loop_time_s=loop,
         H_uz=H["H_uz"],
         H_uw=H["H_uw"],
         H_ufh=H["H_ufh"],
-        constraints=constraints,
+        constraints=_constraints(doc["constraints"]),
         feasible_fc_hz=feas,
-        warnings=tuple(str(w) for w in doc["warnings"]),
+        warnings=tuple(_strings("warnings", doc["warnings"])),
         table=dict(doc["table"] or {}),
-        vs=doc["vs"],
-        software_version=str(doc["software_version"]),
+        vs=_vs_entry(doc["vs"]),
+        software_version=_string("software_version", doc["software_version"]),
     )
 
 
-def _check_coefficients(tf: Any, key: str, where: str | os.PathLike) -> None:
-    """Refuse coefficients that are not real numbers (a boolean is not a coefficient) or not finite."""
-    if tf is None or not isinstance(tf, dict):
-        return  # absent or malformed: design_from_dict says which
+#: Longest value echoed in a message [characters].
+_SHOWN_CHARS = 40
+
+
+def _shown(value: Any) -> Any:
+    """``value`` as echoed in a message: a scalar as it is, a long one cut, a container by its type."""
+    if isinstance(value, (list, dict)):
+        return f"a JSON {'array' if isinstance(value, list) else 'object'}"
+    text = value if isinstance(value, str) else repr(value)
+    return value if len(text) <= _SHOWN_CHARS else f"{text[:_SHOWN_CHARS]}... ({len(text)} characters)"
+
+
+def _number(key: str, value: Any, check: str = "any") -> float:
+    """A finite real number (not a boolean), with ``check`` ``positive``/``nonnegative``/``any``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ConfigError(key, "a number", _shown(value))
+    try:
+        number = float(value)
+    except OverflowError:
+        number = math.inf
+    if not math.isfinite(number):
+        raise ConfigError(key, "a finite number", _shown(value))
+    if (check == "positive" and number <= 0) or (check == "nonnegative" and number < 0):
+        raise ConfigError(key, f"a {check} number", _shown(value))
+    return number
+
+
+def _integer(key: str, value: Any, low: int = 0) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        raise ConfigError(key, f"a whole number >= {low}", _shown(value))
+    return value
+
+
+def _string(key: str, value: Any) -> str:
+    if not isinstance(value, str):
+        raise ConfigError(key, "a string", _shown(value))
+    return value
+
+
+def _strings(key: str, value: Any) -> list[str]:
+    if not isinstance(value, list):
+        raise ConfigError(key, "a list of strings", _shown(value))
+    return [_string(f"{key}[{i}]", v) for i, v in enumerate(value)]
+
+
+def _transfer_function(tf: Any, key: str) -> TransferFunction | None:
+    """``{"num": [...], "den": [...]}`` of finite real numbers with a non-zero denominator, or None."""
+    if tf is None:
+        return None
+    if not isinstance(tf, dict) or set(tf) != {"num", "den"}:
+        raise ConfigError(key, "null or {'num': [...], 'den': [...]} (descending powers of s)", _shown(tf))
+    coefficients = {}
     for part in ("num", "den"):
-        values = tf.get(part)
-        if not isinstance(values, list):
-            continue
-        for value in values:
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise DataFileError(where, f"{key}.{part}: expected numbers, got {value!r}")
-            try:
-                finite = math.isfinite(float(value))
-            except OverflowError:
-                finite = False
-            if not finite:
-                raise DataFileError(where, f"{key}.{part}: expected finite numbers, got {str(value)[:40]}")
+        values = tf[part]
+        if not isinstance(values, list) or not values:
+            raise ConfigError(f"{key}.{part}", "a non-empty list of numbers", _shown(values))
+        coefficients[part] = [_number(f"{key}.{part}[{i}]", v) for i, v in enumerate(values)]
+    if not any(coefficients["den"]):
+        raise ConfigError(f"{key}.den", "a denominator with a non-zero coefficient", "all zero")
+    try:
+        return TransferFunction.from_dict(coefficients)
+    except ImilError as exc:  # e.g. coefficients whose products overflow
+        raise ConfigError(key, f"a transfer function ({exc})") from None
 
 
-def _check_table(table: Any, where: str | os.PathLike) -> None:
+#: Largest ripple of a Chebyshev I filter [dB] (``design.filters``); other families ignore it.
+_MAX_RIPPLE_DB = 10.0
+
+
+def _filter(flt: Any, loop_time_s: float) -> FilterSpec:
+    """The filter entry; a separate w cut-off must be below the loop's Nyquist frequency."""
+    if not isinstance(flt, dict):
+        raise ConfigError("filter", "{'family': ..., 'order_z': ..., 'order_w': ...}", _shown(flt))
+    for key in ("family", "order_z", "order_w"):
+        if key not in flt:
+            raise ConfigError(f"filter.{key}", "present")
+    family = _string("filter.family", flt["family"])
+    if family not in FAMILIES:
+        raise ConfigError("filter.family", "one of " + ", ".join(FAMILIES), _shown(family))
+    ripple = _number("filter.ripple_db", flt.get("ripple_db", 0.5), "nonnegative")
+    if ripple >= _MAX_RIPPLE_DB:
+        raise ConfigError("filter.ripple_db", f"a ripple below {_MAX_RIPPLE_DB:g} dB", ripple)
+    fc_w = flt.get("fc_w_hz")
+    if fc_w is not None:
+        fc_w = _number("filter.fc_w_hz", fc_w, "positive")
+        if loop_time_s > 0 and fc_w >= 0.5 / loop_time_s:
+            raise ConfigError(
+                "filter.fc_w_hz", f"a cut-off below the Nyquist frequency {0.5 / loop_time_s:g} Hz", fc_w
+            )
+    return FilterSpec(
+        family,
+        _integer("filter.order_z", flt["order_z"]),
+        _integer("filter.order_w", flt["order_w"]),
+        _integer("filter.order_fh", flt.get("order_fh", 0)),
+        ripple,
+        fc_w,
+    )
+
+
+#: Fields of a constraint entry that are verdicts (true/false); the others are numbers or null.
+_VERDICTS = ("I", "II", "III", "stable")
+
+#: Fields of a constraint entry that cannot be negative: frequencies, an error norm, a ratio.
+_NONNEGATIVE = (
+    "performance_error",
+    "effort_ratio",
+    *(f"{n}_worst_hz" for n in ("performance", "effort", "passivity", "passivity_tolerant")),
+)
+
+
+def _constraints(entries: Any) -> tuple[ConstraintResult, ...]:
+    if not isinstance(entries, list):
+        raise ConfigError("constraints", "a list of constraint results", _shown(entries))
+    names = [f.name for f in dataclasses.fields(ConstraintResult)]
+    out = []
+    for i, entry in enumerate(entries):
+        key = f"constraints[{i}]"
+        if not isinstance(entry, dict) or set(entry) != set(names):
+            raise ConfigError(key, "an object with the keys " + ", ".join(names), _shown(entry))
+        values: dict[str, Any] = {}
+        for name in names:
+            value = entry[name]
+            if name in _VERDICTS:
+                if not isinstance(value, bool):
+                    raise ConfigError(f"{key}.{name}", "true or false", _shown(value))
+                values[name] = value
+            elif name == "fc_hz":
+                values[name] = _number(f"{key}.{name}", value, "positive")
+            else:
+                check = "nonnegative" if name in _NONNEGATIVE else "any"
+                values[name] = math.nan if value is None else _number(f"{key}.{name}", value, check)
+        out.append(ConstraintResult(**values))
+    return tuple(out)
+
+
+def _vs_entry(entry: Any) -> dict[str, Any] | None:
+    """The VS entry: null, or an object with a string ``kind`` and a ``parameters`` object.
+
+    Its parameters are checked when the VS is rebuilt (``implement.export.designed_vs``).
+    """
+    if entry is None:
+        return None
+    if not isinstance(entry, dict):
+        raise ConfigError("vs", "null or {'kind': ..., 'name': ..., 'parameters': {...}}", _shown(entry))
+    _string("vs.kind", entry.get("kind"))
+    if entry.get("name") is not None:
+        _string("vs.name", entry["name"])
+    if not isinstance(entry.get("parameters"), dict):
+        raise ConfigError("vs.parameters", "an object of parameters", _shown(entry.get("parameters")))
+    return entry
+
+
+def _check_table(table: Any) -> None:
     """Refuse table parameters that are not numbers, out of range or implausible (present keys only).
 
     A design file's table is ``TableParameters.to_dict()`` in internal units;
@@ -227,15 +365,16 @@ def _check_table(table: Any, where: str | os.PathLike) -> None:
     if table is None:
         return
     if not isinstance(table, dict):
-        raise DataFileError(where, "table: expected the table parameters (TableParameters.to_dict())")
-    try:
-        for key, value in table.items():
-            spec = TABLE_FIELDS.get(key)
-            for item in value if spec is not None and spec.count > 1 and isinstance(value, list) else [value]:
-                if spec is not None and (isinstance(item, bool) or not isinstance(item, (int, float))):
-                    raise ConfigError(f"table.{key}", f"a number in {spec.unit}", item)
-                if spec is not None:
-                    quantity(f"table.{key}", item, spec.unit, spec.check)
-        check_table(table, where="table.")
-    except ConfigError as exc:
-        raise DataFileError(where, str(exc)) from None
+        raise ConfigError("table", "the table parameters (TableParameters.to_dict())", _shown(table))
+    for key, value in table.items():
+        spec = TABLE_FIELDS.get(key)
+        if spec is None:
+            continue
+        items = value if spec.count > 1 and isinstance(value, list) else [value]
+        if spec.count > 1 and len(items) != spec.count:
+            raise ConfigError(f"table.{key}", f"a list of {spec.count} numbers in {spec.unit}", _shown(value))
+        for item in items:
+            if isinstance(item, bool) or not isinstance(item, (int, float)):
+                raise ConfigError(f"table.{key}", f"a number in {spec.unit}", _shown(item))
+            quantity(f"table.{key}", item, spec.unit, spec.check)
+    check_table(table, where="table.")
