@@ -2,6 +2,13 @@
 
     imil export DESIGN.json --format c --precision single --prefix imil -o out/
     imil export --table table.toml --vs SD2 --fc 80 --format st -o out/
+    imil export DESIGN.json --stroke "3 in" --max-rate "40 in/s" -o out/
+
+The generated C and ST carry a safety layer (``implement.safety``): a clamp to
+the stroke and a rate limit on the command, from the design's table (its
+mid-stroke and the valve's velocity capacity) unless ``--stroke`` and
+``--max-rate`` say otherwise (at most the table's), input and overflow guards
+and a fault word.
 
 Designing here uses the report's controller form and filter (``[design]`` of
 the report's setup file); ``--precision`` defaults to the report's.
@@ -12,13 +19,15 @@ output directory is left behind.
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 
 import typer
 
 from ..design import design_controller, load_design, table_model, virtual_model
-from ..errors import ConfigError
+from ..errors import ConfigError, DataFileError, ImilError
 from ..implement.export import FORMATS, controller_from_design, designed_vs, render, write_directory
+from ..implement.safety import command_limits
 from ..report_config import report_config
 from ..virtual.files import resolve
 from .common import console, table_parameters
@@ -34,6 +43,24 @@ def _design(design_file, table, vs, fc):
     spec = resolve(vs) if vs else None
     vm = virtual_model(spec.vs, spec.name) if spec is not None else None
     return design_controller(table_model(table_parameters(table)), vm, fc_hz=fc, emit_warnings=False)
+
+
+#: Keys of the errors that are about an option, not about the design's content.
+_OPTION_KEYS = ("prefix", "precision")
+
+
+@contextmanager
+def _naming(design_file: Path | None):
+    """An error in what the design file holds names the file (errors about options do not)."""
+    try:
+        yield
+    except DataFileError:
+        raise
+    except ImilError as exc:
+        key = getattr(exc, "key", "")
+        if design_file is None or key.startswith("-") or key in _OPTION_KEYS:
+            raise
+        raise DataFileError(design_file, str(exc)) from None
 
 
 def export(
@@ -53,23 +80,35 @@ def export(
     method: str = typer.Option("tustin", "--method", help="tustin | zoh | matched."),
     prewarp: float | None = typer.Option(None, "--prewarp", help="Tustin pre-warp [Hz]."),
     leak: float | None = typer.Option(None, "--leak-hz", help="Leak replacing the double integrator [Hz]."),
+    stroke: str | None = typer.Option(
+        None, "--stroke", help="Command clamp, e.g. '3 in' (default: the design table's mid-stroke)."
+    ),
+    max_rate: str | None = typer.Option(
+        None,
+        "--max-rate",
+        help="Command rate limit, e.g. '40 in/s' (default: the valve's velocity capacity).",
+    ),
     force: bool = typer.Option(False, "--force", help="Replace an existing output directory."),
 ) -> None:
     """Export a discretized MIL controller as C, IEC 61131-3 ST, JSON or CSV."""
     if fmt not in FORMATS:
         raise ConfigError("--format", "one of " + ", ".join(FORMATS), fmt)
     design = _design(design_file, table, vs, fc)
-    controller = controller_from_design(
-        design, loop_time_s=loop_time, method=method, prewarp_hz=prewarp, leak_hz=leak
-    )
     spec = resolve(vs) if vs is not None else None
-    chosen = designed_vs(design, spec.vs if spec else None, spec.name if spec else "")
-    vs_obj = chosen.vs if fmt in ("c", "st") else None
-    summary = f"{design.form} form, fc {design.fc_hz:g} Hz" + (
-        f", VS {chosen.name} ({chosen.vs.kind})" if vs_obj is not None else ""
-    )
     precision = report_config().controller.precision if precision is None else precision
-    files = render(controller, fmt, precision, prefix, vs=vs_obj, design_summary=summary)
+    with _naming(design_file):
+        controller = controller_from_design(
+            design, loop_time_s=loop_time, method=method, prewarp_hz=prewarp, leak_hz=leak
+        )
+        chosen = designed_vs(design, spec.vs if spec else None, spec.name if spec else "")
+        vs_obj = chosen.vs if fmt in ("c", "st") else None
+        summary = f"{design.form} form, fc {design.fc_hz:g} Hz" + (
+            f", VS {chosen.name} ({chosen.vs.kind})" if vs_obj is not None else ""
+        )
+        limits = (
+            command_limits(design.table, stroke=stroke, max_rate=max_rate) if fmt in ("c", "st") else None
+        )
+        files = render(controller, fmt, precision, prefix, vs=vs_obj, design_summary=summary, limits=limits)
     out = write_directory(files, output, force=force)
     console.print(f"wrote {', '.join(sorted(files))} to {out}")
     if chosen.note:

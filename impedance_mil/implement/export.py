@@ -29,6 +29,7 @@ from .c import render_c
 from .discretize import DiscreteController, discretize
 from .identifiers import check_c_identifier, check_st_identifier
 from .runtime import precision_dtype
+from .safety import COEFFICIENTS, CommandLimits, check_renderable
 from .st import render_st
 
 #: Export formats.
@@ -162,7 +163,12 @@ def designed_vs(design, requested=None, requested_name: str = "") -> ExportVS:
             raise ConfigError(
                 "design vs.kind", f"the kind of its definition, {vstype.kind!r}", entry.get("kind")
             )
-    vs = from_parameters(entry.get("kind"), entry.get("parameters"), where="design vs.", vstype=vstype)
+    parameters = entry.get("parameters")
+    if isinstance(parameters, dict) and parameters.get("kind", entry.get("kind")) != entry.get("kind"):
+        raise ConfigError(
+            "design vs.parameters.kind", f"the entry's kind, {entry.get('kind')!r}", parameters["kind"]
+        )
+    vs = from_parameters(entry.get("kind"), parameters, where="design vs.", vstype=vstype)
     name = str(entry.get("name") or vs.kind)
     if requested is not None and not _same_vs(vs, requested):
         raise ConfigError(
@@ -262,15 +268,39 @@ def render(
     prefix: str = "imil",
     vs=None,
     design_summary: str = "",
+    *,
+    limits: CommandLimits | None = None,
 ) -> dict[str, str]:
-    """``{file name: text}`` of one export format (no file is written)."""
+    """``{file name: text}`` of one export format (no file is written).
+
+    Parameters
+    ----------
+    limits : CommandLimits
+        The safety layer's limits (:func:`~impedance_mil.implement.safety.command_limits`);
+        required for ``c`` and ``st``.
+
+    Raises
+    ------
+    ConfigError
+        An unknown format or precision, a prefix that is not an identifier,
+        C/ST without ``limits``, or a number the precision cannot hold
+        (:func:`~impedance_mil.implement.safety.check_renderable`), for every
+        format: the coefficient files hold the values rounded to the precision.
+    """
     if fmt not in FORMATS:
         raise ConfigError("--format", "one of " + ", ".join(FORMATS), fmt)
     precision_dtype(precision)
-    if fmt == "c":
-        return render_c(controller, precision, prefix, vs=vs, design_summary=design_summary).files
-    if fmt == "st":
-        return render_st(controller, precision, prefix, vs=vs, design_summary=design_summary)
+    for ch in controller.channels:
+        check_renderable(ch.name, ch.system_matrix(), precision, COEFFICIENTS)
+    check_renderable("loop_time_s", controller.loop_time_s, precision, "a loop time")
+    if fmt in ("c", "st"):
+        if limits is None:
+            raise ConfigError("limits", "the safety layer's command limits for generated code")
+        if fmt == "c":
+            return render_c(
+                controller, precision, prefix, vs=vs, design_summary=design_summary, limits=limits
+            ).files
+        return render_st(controller, precision, prefix, vs=vs, design_summary=design_summary, limits=limits)
     check_c_identifier(prefix)
     check_st_identifier(prefix)
     if fmt == "json":

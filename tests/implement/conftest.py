@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 import scipy.signal
 
+from impedance_mil.implement.safety import CommandLimits
 from impedance_mil.systems import TransferFunction
 
 TWO_PI = 2.0 * math.pi
@@ -39,6 +40,27 @@ TABLE_4_1 = dict(
 
 LOOP_TIME_S = 500e-6
 FC_HZ = 80.0
+
+# -O2 with the arithmetic kept as written (the generated header asks for these flags when
+# results must reproduce the runtime bit for bit): gcc 12's basic-block vectorization and its
+# folding of powf(x, 2) change float results of the TFP step by a rounding (docs/implement.md).
+GCC_FLAGS = [
+    "-std=c99",
+    "-O2",
+    "-fno-tree-slp-vectorize",
+    "-fno-builtin",
+    "-Wall",
+    "-Wextra",
+    "-Werror",
+    "-pedantic",
+    "-fPIC",
+    "-shared",
+]
+
+#: Safety-layer limits beyond every value of the test records (the synthetic record drifts
+#: to a peak u of 61 in): no guard acts, and the bit-identity tests assert that the fault
+#: word stays 0.  The guards themselves are tested in test_codegen_guards.py.
+WIDE_LIMITS = CommandLimits(stroke_in=1e4, max_rate_in_s=1e6, accel_limit_in_s2=1e6, force_limit_lbf=1e7)
 
 
 def table_tfs(p=TABLE_4_1):

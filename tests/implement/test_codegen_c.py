@@ -14,23 +14,8 @@ from impedance_mil.implement import MILRuntime, discretize
 from impedance_mil.implement.c import render_c
 from impedance_mil.virtual import presets
 
-from .conftest import FC_HZ, LOOP_TIME_S, broadband_record
+from .conftest import FC_HZ, GCC_FLAGS, LOOP_TIME_S, WIDE_LIMITS, broadband_record
 
-# -O2 with the arithmetic kept as written (the generated header asks for these flags when
-# results must reproduce the runtime bit for bit): gcc 12's basic-block vectorization and its
-# folding of powf(x, 2) change float results of the TFP step by a rounding (docs/implement.md).
-GCC_FLAGS = [
-    "-std=c99",
-    "-O2",
-    "-fno-tree-slp-vectorize",
-    "-fno-builtin",
-    "-Wall",
-    "-Wextra",
-    "-Werror",
-    "-pedantic",
-    "-fPIC",
-    "-shared",
-]
 #: (prefix, precision, VS preset or None) of every variant compiled, once per session.
 VARIANTS = [
     ("ctl_f", "single", None),
@@ -60,7 +45,7 @@ def clib(discrete, tmp_path_factory):
     sources = []
     for prefix, precision, preset in VARIANTS:
         vs = presets.get(preset) if preset else None
-        render_c(discrete, precision, prefix, vs=vs).write(d)
+        render_c(discrete, precision, prefix, vs=vs, limits=WIDE_LIMITS).write(d)
         sources.append(str(d / f"{prefix}.c"))
     lib = d / "libimil_test.so"
     subprocess.run(
@@ -70,6 +55,7 @@ def clib(discrete, tmp_path_factory):
 
 
 def _c_run(lib, prefix, precision, a, b, mil=False):
+    """u (and z_vs) of the compiled step over a record, in normal operation: no guard acts."""
     ct = ctypes.c_float if precision == "single" else ctypes.c_double
     dt = np.float32 if precision == "single" else np.float64
     state = ctypes.create_string_buffer(getattr(lib, f"{prefix}_state_size")())
@@ -81,9 +67,10 @@ def _c_run(lib, prefix, precision, a, b, mil=False):
     if mil:
         z = np.zeros(a.size, dt)
         getattr(lib, f"{prefix}_mil_run")(state, ptr(a), ptr(b), ptr(u), ptr(z), ctypes.c_long(a.size))
-        return u, z
-    getattr(lib, f"{prefix}_run")(state, ptr(a), ptr(b), ptr(u), ctypes.c_long(a.size))
-    return u
+    else:
+        getattr(lib, f"{prefix}_run")(state, ptr(a), ptr(b), ptr(u), ctypes.c_long(a.size))
+    assert getattr(lib, f"{prefix}_fault")(state) == 0  # the guards never acted
+    return (u, z) if mil else u
 
 
 @pytest.fixture(scope="module")
@@ -149,7 +136,7 @@ def test_user_type_from_its_own_file_renders_and_matches_runtime(discrete, long_
     vs = two_storey.example_two_storey()
     a_g, w = long_record
     for prefix, precision in (("iso_d", "double"), ("iso_f", "single")):
-        render_c(discrete, precision, prefix, vs=vs).write(tmp_path)
+        render_c(discrete, precision, prefix, vs=vs, limits=WIDE_LIMITS).write(tmp_path)
     lib = tmp_path / "libiso.so"
     subprocess.run(
         ["gcc", *GCC_FLAGS, "-o", str(lib), str(tmp_path / "iso_d.c"), str(tmp_path / "iso_f.c"), "-lm"],
@@ -170,4 +157,4 @@ def test_user_type_from_its_own_file_renders_and_matches_runtime(discrete, long_
 @pytest.mark.parametrize("bad", ["1abc", "my-ctl", "int", "static", "__x", "_Foo", ""])
 def test_invalid_prefix_is_rejected(discrete, bad):
     with pytest.raises(ConfigError, match="prefix"):
-        render_c(discrete, "single", bad)
+        render_c(discrete, "single", bad, limits=WIDE_LIMITS)

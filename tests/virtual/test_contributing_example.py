@@ -9,6 +9,7 @@ import numpy as np
 
 from impedance_mil.implement import discretize
 from impedance_mil.implement.c import render_c
+from impedance_mil.implement.safety import CommandLimits
 from impedance_mil.systems import TransferFunction
 
 CONTRIBUTING = Path(__file__).resolve().parents[2] / "CONTRIBUTING.md"
@@ -31,4 +32,5 @@ def test_the_documented_type_works():
         0.0005,
         fc_hz=80.0,
     )
-    assert "vd_mil_step" in render_c(ctrl, "single", "vd", vs=vs).files["vd.c"]
+    limits = CommandLimits(stroke_in=3.2, max_rate_in_s=47.6, accel_limit_in_s2=1.5e4, force_limit_lbf=6.3e4)
+    assert "vd_mil_step" in render_c(ctrl, "single", "vd", vs=vs, limits=limits).files["vd.c"]

@@ -13,6 +13,12 @@ API of the generated code, for prefix ``P``::
     P_real_t  P_step(P_state_t *s, P_real_t z_vs, P_real_t w);      u [in]
     P_real_t  P_mil_step(P_state_t *s, P_real_t a_g, P_real_t w, P_real_t *z_vs);  (with a VS)
     void      P_run / P_mil_run (whole records), size_t P_state_size(void)
+    unsigned  P_fault(s), P_active(s); void P_reset(s); int P_check_loop_time(s, measured_s)
+
+Every step runs through the safety layer of :mod:`impedance_mil.implement.safety`
+(input and overflow guards that latch and hold the last safe command, the
+stroke clamp, the rate limit, the fault word); the guards only compare, so
+when none acts the step computes exactly what the runtime computes.
 """
 
 from __future__ import annotations
@@ -31,6 +37,16 @@ from ...virtual.system import DefinedVS
 from ..discretize import DiscreteController
 from ..identifiers import check_c_identifier
 from ..runtime import precision_dtype
+from ..safety import (
+    COEFFICIENTS,
+    FAULT_TEXT,
+    HOLD,
+    VALUE_LIMIT,
+    CommandLimits,
+    Fault,
+    check_renderable,
+    rendered_limits,
+)
 
 
 @dataclass(frozen=True)
@@ -56,6 +72,35 @@ def c_literal(value: float, precision: str) -> str:
         return text + ("f" if any(ch in text for ch in ".e") else ".0f")
     text = repr(float(value))
     return text if any(ch in text for ch in ".e") else text + ".0"
+
+
+def safety_fields(limits: CommandLimits, loop_time_s: float, precision: str, prefix: str) -> dict[str, str]:
+    """Template fields of the safety layer: the limits as C literals and their sources.
+
+    Raises
+    ------
+    ConfigError
+        A limit the precision cannot hold.
+    """
+    values = rendered_limits(limits, loop_time_s, precision)
+    bits = [(f.name, f"0x{int(f):04X}u", FAULT_TEXT[f]) for f in Fault]
+    bits.append(("HOLD", f"0x{int(HOLD):04X}u", "the bits that latch and hold the command"))
+    return {
+        "fault_defines": "\n".join(
+            f"#define {prefix.upper()}_FAULT_{n:<12s}{v}  /* {t} */" for n, v, t in bits
+        ),
+        "stroke_in": f"{limits.stroke_in:.6g}",
+        "max_rate": f"{limits.max_rate_in_s:.6g}",
+        "du_max": f"{values['du_max']:.6g}",
+        "accel_limit": f"{limits.accel_limit_in_s2:.6g}",
+        "force_limit": f"{limits.force_limit_lbf:.6g}",
+        "value_limit": f"{VALUE_LIMIT[precision]:g}",
+        "stroke_source": limits.source("stroke"),
+        "rate_source": limits.source("rate"),
+        "inputs_source": limits.source("inputs"),
+        **{f"{key}_literal": c_literal(value, precision) for key, value in values.items()},
+        "loop_time_rtol": repr(limits.loop_time_rtol),
+    }
 
 
 def _matrix(m: np.ndarray, precision: str) -> str:
@@ -93,6 +138,8 @@ def _vs_code(vs, prefix: str, precision: str, loop_time: str) -> dict:
         number=lambda v: c_literal(v, "double"),
     )
     values = vs.parameter_array()
+    for n, v in zip(d.kernel_constants, values, strict=True):
+        check_renderable(f"vs.{n}", v, precision, "a VS parameter")
     params = "\n".join(
         f"static const {rt} {prefix}_vs_{n} = {c_literal(v, precision)};  /* {_label(d, n)} */"
         for n, v in zip(d.kernel_constants, values, strict=True)
@@ -113,6 +160,7 @@ def _vs_code(vs, prefix: str, precision: str, loop_time: str) -> dict:
         n_vs=d.n_states,
         loop_time_literal=loop_time,
         prefix=prefix,
+        PREFIX=prefix.upper(),
     )
 
 
@@ -154,6 +202,8 @@ def render_c(
     prefix: str = "imil",
     vs=None,
     design_summary: str = "",
+    *,
+    limits: CommandLimits,
 ) -> GeneratedFiles:
     """Generate ``<prefix>.h`` and ``<prefix>.c``.
 
@@ -170,12 +220,25 @@ def render_c(
         (Figure 7.9, corrected), rendered from the type's definition.
     design_summary : str
         One line describing the design, copied into the header comment.
+    limits : CommandLimits
+        The stroke clamp, rate limit and input ranges of the safety layer
+        (:func:`impedance_mil.implement.safety.command_limits` derives them
+        from a design's table).
+
+    Raises
+    ------
+    ConfigError
+        A prefix that is not a C identifier, or a coefficient, VS parameter or
+        limit the precision cannot hold (:func:`~impedance_mil.implement.safety.check_renderable`).
     """
     check_c_identifier(prefix)
     precision_dtype(precision)
     ctype = "float" if precision == "single" else "double"
     m_z = controller.z.system_matrix()
     m_w = controller.w.system_matrix()
+    check_renderable("H_uz", m_z, precision, COEFFICIENTS)
+    check_renderable("H_uw", m_w, precision, COEFFICIENTS)
+    safety = safety_fields(limits, controller.loop_time_s, precision, prefix)
     n_z, n_w = controller.z.n_states, controller.w.n_states
     n_vs = definition_of(vs).n_states if vs is not None else 0
     loop_time = c_literal(controller.loop_time_s, precision)
@@ -203,9 +266,9 @@ def render_c(
         mz=_matrix(m_z, precision),
         mw=_matrix(m_w, precision),
         vs_states=(" [" + ", ".join(definition_of(vs).states) + "]") if vs is not None else "(unused)",
-        math_include="#include <math.h>" if vs is not None else "",
         mil_decl="",
         vs_code="",
+        **safety,
     )
     if vs is not None:
         rt = f"{prefix}_real_t"

@@ -25,6 +25,8 @@ from ..c.generator import definition_of
 from ..discretize import DiscreteController
 from ..identifiers import check_st_identifier
 from ..runtime import precision_dtype
+from ..safety import COEFFICIENTS, CommandLimits, Fault, check_renderable
+from . import guards
 
 
 def st_literal(value: float, precision: str) -> str:
@@ -63,8 +65,13 @@ def _channel(tag: str, state: str, inp: str, m: np.ndarray, precision: str, real
 
 
 def _controller(controller: DiscreteController, precision: str, real: str, constants=(), variables=()):
-    """Declarations and body of the controller; ``constants`` and ``variables`` are extra
-    declaration lines for its VAR CONSTANT and VAR sections (the MIL block's VS)."""
+    """Declarations, state names and the guarded body of the controller.
+
+    ``constants`` and ``variables`` are declaration lines for its VAR CONSTANT
+    and VAR sections (the safety layer's, the MIL block's VS).  The body
+    computes ``u_raw`` (``u_z + u_w``), updates the states and latches an
+    overflow; :func:`guards.command` turns ``u_raw`` into the safe ``u``.
+    """
     dz, az, oz, uz = _channel("Az", "X", "z_vs", controller.z.system_matrix(), precision, real)
     dw, aw, ow, uw = _channel("Aw", "Y", "w", controller.w.system_matrix(), precision, real)
     nmax = max(controller.z.n_states, controller.w.n_states, 1)
@@ -76,22 +83,44 @@ def _controller(controller: DiscreteController, precision: str, real: str, const
         + "\nEND_VAR\nVAR\n"
         + "\n".join(az + aw)
         + f"\n    t : ARRAY[0..{nmax - 1}] OF {real};\n    r : {real};\n    s : {real};"
+        + f"\n    u_raw : {real};\n    u_safe : {real};"
         + "".join("\n" + line for line in variables)
         + "\nEND_VAR"
     )
-    body = [
-        "(* control input (position command) *)",
-        f"u_z := {oz};",
-        f"u_w := {ow};",
-        "u := u_z + u_w;",
-        "(* update of the controller states: H_uz with z_vs, H_uw with w *)",
-        *uz,
-        *uw,
+    states = [
+        f"{a}[{i}]" for a, n in (("X", controller.z.n_states), ("Y", controller.w.n_states)) for i in range(n)
     ]
-    return decls, "\n".join(body)
+    body = [
+        "    (* control input (position command), before the clamp and the rate limit *)",
+        f"    u_z := {oz};",
+        f"    u_w := {ow};",
+        "    u_raw := u_z + u_w;",
+        "    (* update of the controller states: H_uz with z_vs, H_uw with w *)",
+        *[f"    {line}" for line in uz + uw],
+        *guards.overflow(["u_raw", *states]),
+    ]
+    compensation = [
+        f"{a}c[{i}]"
+        for a, n in (("X", controller.z.n_states), ("Y", controller.w.n_states))
+        for i in range(n)
+    ]
+    return decls, states + compensation, body
 
 
-def _mil_block(controller, vs, prefix, precision, real) -> str:
+def _guarded(prefix_lines: list[str], body: list[str], extra_hold=()) -> str:
+    """The scan: reset, loop-time and input checks, the body when no fault holds, the command."""
+    return "\n".join(
+        [
+            *prefix_lines,
+            f"IF (fault AND F_HOLD) = {guards.word(0)} THEN",
+            *body,
+            "END_IF;",
+            *guards.command(extra_hold),
+        ]
+    )
+
+
+def _mil_block(controller, vs, prefix, precision, real, limits) -> str:
     d = definition_of(vs)
     n = d.n_states
     lit = lambda v: st_literal(v, precision)  # noqa: E731
@@ -120,11 +149,8 @@ def _mil_block(controller, vs, prefix, precision, real) -> str:
         assign=lambda t, v: f"{t} := {v};",
         number=number,
     )
-    body = [
-        "(* target acceleration from the VS state at the start of the loop, then the third-order",
-        "   Runge-Kutta step of the VS (Figure 7.9), generated from its definition *)",
-        *tick_statements(d, lang, "z_vs"),
-    ]
+    for p, v in zip(d.kernel_constants, vs.parameter_array(), strict=True):
+        check_renderable(f"vs.{p}", v, precision, "a VS parameter")
     params = [
         f"    p_{p} : {real} := {lit(v)};"
         for p, v in zip(d.kernel_constants, vs.parameter_array(), strict=True)
@@ -136,24 +162,64 @@ def _mil_block(controller, vs, prefix, precision, real) -> str:
         *[f"    t_{t} : {real};" for t, _ in d.intermediates],
         f"    u_z : {real};",
         f"    u_w : {real};",
+        f"    z_safe : {real};",
     ]
-    cdecls, cbody = _controller(
+    cdecls, cstates, cbody = _controller(
         controller,
         precision,
         real,
-        constants=[f"    dt : {real} := {lit(controller.loop_time_s)};", *params, *rk],
+        constants=[
+            f"    dt : {real} := {lit(controller.loop_time_s)};",
+            *params,
+            *rk,
+            *guards.constants(limits, controller.loop_time_s, precision, real, lit),
+        ],
         variables=local,
+    )
+    x_vs = [f"x_vs[{i}]" for i in range(n)]
+    vs_range = (
+        f"({guards.out_of_range(['z_vs'], 'accel_limit')}) OR ({guards.out_of_range(x_vs, 'value_limit')})"
+    )
+    body = [
+        "    (* target acceleration from the VS state at the start of the loop, then the third-order",
+        "       Runge-Kutta step of the VS (Figure 7.9), generated from its definition *)",
+        *[f"    {line}" for line in tick_statements(d, lang, "z_vs")],
+        "    (* the VS target and states are internal values: out of range, they hold *)",
+        f"    IF {vs_range} THEN",
+        f"        active := active OR {guards.BIT_NAMES[Fault.OVERFLOW]};",
+        "        fault := fault OR active;",
+        "    ELSE",
+        "        z_safe := z_vs;",
+        *[f"    {line}" for line in cbody],
+        "    END_IF;",
+    ]
+    scan = _guarded(
+        [
+            *guards.reset_block([*cstates, *x_vs]),
+            *guards.input_checks([("a_g", "accel_limit"), ("w", "force_limit")]),
+        ],
+        body,
+        extra_hold=["z_vs := z_safe;"],
     )
     return (
         f"\n(* Figures 7.9-7.11 (corrected): {d.kind} virtual system ({d.title}; {d.source}) "
         f"and the controller in one loop.  States: {', '.join(d.states)}. *)\n"
-        f"FUNCTION_BLOCK {prefix}_mil\nVAR_INPUT\n    a_g : {real};\n    w : {real};\nEND_VAR\n"
-        f"VAR_OUTPUT\n    u : {real};\n    z_vs : {real};\nEND_VAR\n{cdecls}\n"
-        + "\n".join(body)
-        + "\n"
-        + cbody
+        f"FUNCTION_BLOCK {prefix}_mil\nVAR_INPUT\n    a_g : {real};\n    w : {real};\n"
+        f"{_SAFETY_INPUTS.format(real=real)}END_VAR\n"
+        f"VAR_OUTPUT\n    u : {real};\n    z_vs : {real};\n{_SAFETY_OUTPUTS}END_VAR\n{cdecls}\n"
+        + scan
         + "\nEND_FUNCTION_BLOCK\n"
     )
+
+
+#: Inputs and outputs of the safety layer, in both function blocks.
+_SAFETY_INPUTS = (
+    "    loop_time_s : {real} := 0.0;  (* measured loop time [s]; 0.0: not checked *)\n"
+    "    reset : BOOL := FALSE;  (* TRUE for one scan: clear the faults, controller at rest *)\n"
+)
+_SAFETY_OUTPUTS = (
+    "    fault : WORD;  (* latched and sticky bits (F_...) *)\n    active : WORD;  (* this scan's bits *)\n"
+)
 
 
 def render_st(
@@ -162,6 +228,8 @@ def render_st(
     prefix: str = "imil",
     vs=None,
     design_summary: str = "",
+    *,
+    limits: CommandLimits,
 ) -> dict:
     """Generate ``{"<prefix>.st": text}``.
 
@@ -178,11 +246,28 @@ def render_st(
         from the type's definition.
     design_summary : str
         One line describing the design (copied into the header comment).
+    limits : CommandLimits
+        The stroke clamp, rate limit and input ranges of the safety layer
+        (:mod:`impedance_mil.implement.st.guards`).
+
+    Raises
+    ------
+    ConfigError
+        A prefix that is not an ST identifier, or a coefficient, VS parameter
+        or limit the precision cannot hold.
     """
     check_st_identifier(prefix)
     precision_dtype(precision)
     real = "REAL" if precision == "single" else "LREAL"
-    decls, body = _controller(controller, precision, real)
+    check_renderable("H_uz", controller.z.system_matrix(), precision, COEFFICIENTS)
+    check_renderable("H_uw", controller.w.system_matrix(), precision, COEFFICIENTS)
+    lit = lambda v: st_literal(v, precision)  # noqa: E731
+    safety = guards.constants(limits, controller.loop_time_s, precision, real, lit)
+    decls, states, body = _controller(controller, precision, real, constants=safety)
+    scan = _guarded(
+        [*guards.reset_block(states), *guards.input_checks([("z_vs", "accel_limit"), ("w", "force_limit")])],
+        body,
+    )
     text = Template(
         resources.files(__package__).joinpath("templates", "program.st.tmpl").read_text()
     ).substitute(
@@ -193,8 +278,11 @@ def render_st(
         precision=precision,
         real=real,
         design_summary=design_summary or "(not recorded)",
+        safety_header=guards.header(limits, controller.loop_time_s),
+        safety_inputs=_SAFETY_INPUTS.format(real=real),
+        safety_outputs=_SAFETY_OUTPUTS,
         controller_decls=decls,
-        controller_body=body,
-        mil_block=_mil_block(controller, vs, prefix, precision, real) if vs is not None else "",
+        controller_body=scan,
+        mil_block=_mil_block(controller, vs, prefix, precision, real, limits) if vs is not None else "",
     )
     return {f"{prefix}.st": text}
