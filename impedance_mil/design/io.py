@@ -35,7 +35,7 @@ from ..config import quantity
 from ..errors import ConfigError, DataFileError, ImilError
 from ..fileio import atomic_write_text, json_safe, parse_json, read_text
 from ..plant.parameters import FIELDS as TABLE_FIELDS
-from ..plausibility import check_table
+from ..plausibility import TABLE_BOUNDS, check_table
 from ..systems import TransferFunction
 from .constraints import ConstraintResult
 from .controller import ControllerDesign, FilterSpec
@@ -178,8 +178,9 @@ def _design(doc: dict[str, Any]) -> ControllerDesign:
             )
     fc = _number("fc_hz", doc["fc_hz"], "positive")
     loop = _number("loop_time_s", doc["loop_time_s"], "nonnegative")
-    if loop > 0 and fc >= 0.5 / loop:
-        raise ConfigError("fc_hz", f"a cut-off below the Nyquist frequency of loop_time_s {loop:g} s", fc)
+    longest = TABLE_BOUNDS["loop_time"].error_high  # a design at fc >= Nyquist is kept; export refuses it
+    if longest is not None and loop > longest:
+        raise ConfigError("loop_time_s", f"a loop time of at most {longest:g} s (plausibility)", loop)
     feas = doc["feasible_fc_hz"]
     if feas is not None:
         if not isinstance(feas, list) or len(feas) != 2:
@@ -190,7 +191,7 @@ def _design(doc: dict[str, Any]) -> ControllerDesign:
         form=form,
         reference=reference,
         fc_hz=fc,
-        filter=_filter(doc["filter"], loop),
+        filter=_filter(doc["filter"]),
         loop_time_s=loop,
         H_uz=H["H_uz"],
         H_uw=H["H_uw"],
@@ -273,8 +274,9 @@ def _transfer_function(tf: Any, key: str) -> TransferFunction | None:
 _MAX_RIPPLE_DB = 10.0
 
 
-def _filter(flt: Any, loop_time_s: float) -> FilterSpec:
-    """The filter entry; a separate w cut-off must be below the loop's Nyquist frequency."""
+def _filter(flt: Any) -> FilterSpec:
+    """The filter entry (a record of how H was filtered: the design is continuous, so a
+    cut-off at or above the loop's Nyquist frequency is kept here and refused by export)."""
     if not isinstance(flt, dict):
         raise ConfigError("filter", "{'family': ..., 'order_z': ..., 'order_w': ...}", _shown(flt))
     for key in ("family", "order_z", "order_w"):
@@ -289,10 +291,6 @@ def _filter(flt: Any, loop_time_s: float) -> FilterSpec:
     fc_w = flt.get("fc_w_hz")
     if fc_w is not None:
         fc_w = _number("filter.fc_w_hz", fc_w, "positive")
-        if loop_time_s > 0 and fc_w >= 0.5 / loop_time_s:
-            raise ConfigError(
-                "filter.fc_w_hz", f"a cut-off below the Nyquist frequency {0.5 / loop_time_s:g} Hz", fc_w
-            )
     return FilterSpec(
         family,
         _integer("filter.order_z", flt["order_z"]),

@@ -60,6 +60,7 @@ VALID = {
     ("filter.order_fh", "zero"),
     ("filter.ripple_db", "zero"),
     ("filter.fc_w_hz", "null"),
+    ("filter.fc_w_hz", "1e308"),  # a record of the design (continuous); H_uw is what is exported
     ("table.Kp", "zero"),
     ("table.zeta_oil", "zero"),
     ("table.return_pressure", "zero"),
