@@ -14,6 +14,7 @@ import typer
 from ..plant import LinearTable
 from ..plant.tuning import pole_summary, tuning_summary
 from ..report import table_plots
+from ..report.motion_plots import check_figure_path
 from .common import console, print_json, table_parameters
 
 app = typer.Typer(
@@ -121,6 +122,7 @@ def bode(
 ) -> None:
     """Bode plots of the six transfer functions (PNG)."""
     p = table_parameters(table, set)
+    check_figure_path(out, "-o")
     _wrote(table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax), json)
 
 

@@ -40,6 +40,10 @@ from .statespace import INPUTS, OUTPUTS, PLANT_STATES, TableStateSpace, feedback
 DELAYS = ("none", "first-order", "pade", "sampled")
 #: Default order of the Pade approximation.
 DEFAULT_PADE_ORDER = 6
+#: Highest order accepted: the coefficients of the order-10 Pade polynomials already span
+#: 12 decades (6.7e11), beyond which a double cannot hold the approximation; the one-loop
+#: delay is resolved to 1e-6 well before (``--pade-order 1000`` divided by zero in python-control).
+MAX_PADE_ORDER = 10
 
 
 def pade_state_space(tau: float, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
@@ -88,8 +92,12 @@ def closed_loop_state_space(
         A_cl = A - p.Kv * np.outer(b_i, k_delayed)
         return TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
     if delay == "pade":
-        if pade_order < 1:
-            raise ConfigError("pade_order", "an integer >= 1", pade_order)
+        if (
+            isinstance(pade_order, bool)
+            or not isinstance(pade_order, (int, np.integer))
+            or not 1 <= pade_order <= MAX_PADE_ORDER
+        ):
+            raise ConfigError("pade_order", f"an integer from 1 to {MAX_PADE_ORDER}", pade_order)
         Ad, bd, cd, dd = pade_state_space(tau, pade_order)
         q = Ad.shape[0]
         A_cl = np.block(
