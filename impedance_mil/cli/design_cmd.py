@@ -27,6 +27,7 @@ from ..design.feasibility import FcScan, choose_fc, mass_ratio_study, scan_fc
 from ..design.filters import FAMILIES
 from ..design.forms import FORMS, TableModel, VirtualModel
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
+from ..design.optimized import OptimizationSettings, design_optimized, with_indices
 from ..errors import ConfigError
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
@@ -125,6 +126,18 @@ def design(
     amplitude: float = typer.Option(
         DEFAULT_AMPLITUDE_IN, "--amplitude", help="Design displacement amplitude of the LR/FP isolator [in]."
     ),
+    method: str = typer.Option(
+        "filter", "--method", help="filter (Section 6.4) | optimized (Section 10.4: convex, certified passivity)."
+    ),
+    margin: float = typer.Option(
+        0.0, "--margin", help="Optimized: passivity margin delta [deg], phase of H_vw within +-(90 - delta)."
+    ),
+    margin_band: str | None = typer.Option(
+        None, "--margin-band", help="Optimized: band LO,HI [Hz] of the margin (default 0.01 Hz to Nyquist)."
+    ),
+    robust_amplitudes: str = typer.Option(
+        "0.25,4", "--robust-amplitudes", help="Optimized, LR/FP: further DF amplitudes [in] of the robust set."
+    ),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
     plots: Path | None = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
     output: Path | None = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
@@ -167,6 +180,24 @@ def design(
     vm = virtual_model(spec.vs, spec.name, **lin) if spec is not None else None
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
+    if method not in ("filter", "optimized"):
+        raise ConfigError("--method", "filter or optimized", method)
+    if method == "optimized":
+        if vm is None or form != "standardized":
+            raise ConfigError("--method", "a VS (--vs) and the standardized form for the optimized design")
+        if spec is None:
+            raise ConfigError("--vs", "a VS preset or file")
+        result = _optimized(params, spec, lin, vm, fcs[0], criteria, margin, margin_band, robust_amplitudes)
+        if output is not None:
+            save_design(result, output)
+        doc = result.to_json()
+        doc["from_report"] = from_report
+        doc["vs_linearization"] = vm.equivalent.to_dict() if vm.equivalent is not None else None
+        if json_out:
+            print_json(doc)
+        else:
+            _print_human(result, [], [], [output] if output is not None else [])
+        return
     kw: dict[str, Any] = dict(form=form, family=family, order=order, criteria=criteria)
     with option_errors(DESIGN_OPTIONS):
         if fcs is None:
@@ -185,6 +216,7 @@ def design(
             emit_warnings=False,
             **kw,
         )
+    result = with_indices(result, params, vm, criteria, warn=False)
     study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []
     written = (
         [] if plots is None else _write_plots(plots, tm, vm, fcs, scan, form, family, order, criteria, spec)
@@ -203,6 +235,20 @@ def design(
         print_json(doc)
         return
     _print_human(result, reasons, study, written)
+
+
+def _optimized(params, spec: VSSpec, lin, vm: VirtualModel, fc_hz, criteria, margin, margin_band, amplitudes):
+    """The optimized design (Section 10.4) with the robust set of the CLI options."""
+    band = _parse_list("--margin-band", margin_band, 2)
+    with option_errors({"margin": "--margin", "margin_band": "--margin-band", "basis": "--method"}):
+        settings = OptimizationSettings(
+            margin_deg=margin, passivity_band_hz=None if band is None else (band[0], band[1])
+        )
+        robust = {}
+        if vm.equivalent is not None:
+            for a in _parse_list("--robust-amplitudes", amplitudes) or []:
+                robust[f"DF {a:g} in"] = virtual_model(spec.vs, spec.name, **{**lin, "amplitude_in": a})
+        return design_optimized(params, vm, robust_vs=robust, fc_hz=fc_hz, criteria=criteria, settings=settings)
 
 
 def _mass_ratio_rows(

@@ -174,6 +174,11 @@ class ConstraintResult:
         Margin after the delay-model tolerance [deg]; III holds when >= 0 and stable.
     stable : bool
         The controlled table ``H_vw`` is stable.
+    passivity_margin_sampled_deg : float
+        Raw passivity margin [deg] on the exact sampled-data table (NaN when not evaluated;
+        :mod:`impedance_mil.design.optimized.indices`).
+    passivity_index : float
+        ``min Re(1/H_vw)`` [lbf*s/in], the smallest equivalent damping (NaN when not evaluated).
     """
 
     fc_hz: float
@@ -191,6 +196,8 @@ class ConstraintResult:
     passivity_tolerant_margin_deg: float
     passivity_tolerant_worst_hz: float
     stable: bool
+    passivity_margin_sampled_deg: float = float("nan")
+    passivity_index: float = float("nan")
 
     @property
     def all_satisfied(self) -> bool:

@@ -110,6 +110,9 @@ class ControllerDesign:
     vs : mapping or None
         ``{"kind", "name", "parameters"}`` of the VS (None for tracking).
     software_version : str
+    optimization : mapping or None
+        The solver's report of an optimized design (:mod:`impedance_mil.design.optimized`);
+        None for a filter design.
     """
 
     form: str
@@ -126,6 +129,7 @@ class ControllerDesign:
     table: Mapping[str, Any] = field(default_factory=dict)
     vs: Mapping[str, Any] | None = None
     software_version: str = __version__
+    optimization: Mapping[str, Any] | None = None
 
     def constraint_at(self, fc_hz: float) -> ConstraintResult:
         """The constraint result for a cut-off [Hz] (NotEvaluatedError, a KeyError, when not evaluated)."""
@@ -152,6 +156,7 @@ class ControllerDesign:
             if self.feasible_fc_hz is None
             else [float(x) for x in self.feasible_fc_hz],
             "warnings": list(self.warnings),
+            **({} if self.optimization is None else {"method": "optimized", "optimization": self.optimization}),
         }
 
 

@@ -45,8 +45,15 @@ from .forms import FORMS, REFERENCE_INPUT
 #: Value of the "format" key.
 FORMAT = "impedance-mil/design"
 
-#: Current schema version.
+#: Schema version of a filter design.
 VERSION = 1
+
+#: Schema version of an optimized design: version 1 plus ``"method": "optimized"`` and the
+#: solver's report ``"optimization"`` (basis, coefficients, certificate, state space of each path).
+VERSION_OPTIMIZED = 2
+
+#: Versions this reader accepts.
+SUPPORTED_VERSIONS = (VERSION, VERSION_OPTIMIZED)
 
 _REQUIRED = (
     "format",
@@ -69,7 +76,8 @@ _REQUIRED = (
 
 def design_to_dict(design: ControllerDesign) -> dict[str, Any]:
     """The design file document of ``design``."""
-    doc = {"format": FORMAT, "version": VERSION, "software_version": design.software_version}
+    version = VERSION if design.optimization is None else VERSION_OPTIMIZED
+    doc = {"format": FORMAT, "version": version, "software_version": design.software_version}
     body = design.to_json()
     doc.update(
         {
@@ -89,6 +97,8 @@ def design_to_dict(design: ControllerDesign) -> dict[str, Any]:
             "warnings": body["warnings"],
         }
     )
+    if design.optimization is not None:
+        doc.update({"method": "optimized", "optimization": body["optimization"]})
     return json_safe(doc)
 
 
@@ -139,10 +149,14 @@ def design_from_dict(doc: Any, where: str | os.PathLike = "<design>") -> Control
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise DataFileError(where, f"not an impedance-mil design file (expected format {FORMAT!r})")
     version = doc.get("version")
-    if isinstance(version, bool) or version != VERSION:  # true == 1 in Python
+    if isinstance(version, bool) or version not in SUPPORTED_VERSIONS:  # true == 1 in Python
         raise DataFileError(
-            where, f"design file version {_shown(version)} is not supported (expected {VERSION})"
+            where,
+            f"design file version {_shown(version)} is not supported "
+            f"(expected {' or '.join(str(v) for v in SUPPORTED_VERSIONS)})",
         )
+    if doc["version"] == VERSION_OPTIMIZED and not isinstance(doc.get("optimization"), dict):
+        raise DataFileError(where, "missing field 'optimization' (version 2: an optimized design)")
     missing = [k for k in _REQUIRED if k not in doc]
     if missing:
         raise DataFileError(where, f"missing field {missing[0]!r}")
@@ -202,6 +216,7 @@ def _design(doc: dict[str, Any]) -> ControllerDesign:
         table=dict(doc["table"] or {}),
         vs=_vs_entry(doc["vs"]),
         software_version=_string("software_version", doc["software_version"]),
+        optimization=doc.get("optimization") if doc["version"] == VERSION_OPTIMIZED else None,
     )
 
 
