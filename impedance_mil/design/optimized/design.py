@@ -46,14 +46,24 @@ def _targets(vs: VirtualModel, robust_vs: Mapping[str, VirtualModel]) -> dict[st
     return out
 
 
+#: Bisection steps on the cap of e_I when the direct minimization stalls.
+BISECTION_STEPS = 6
+
+#: Exchange rounds per bisection step.
+BISECTION_ROUNDS = 6
+
+
 def _certified_target(vs: VirtualModel):
     return vs.H_zw if vs.equivalent is None else vs.equivalent.H_zw
 
 
 def _column_scale(problem: Problem) -> np.ndarray:
-    """Inverse column sizes of the objective and passivity rows (coefficients of order 1)."""
-    rows = rows_for(problem, "I", problem.design_model, log_points(problem.band_hz, 20))
-    rows += rows_for(problem, "III", problem.design_model, log_points(problem.margin_band_hz, 20))
+    """Inverse column sizes over every row family of the design model (coefficients of order 1)."""
+    m = problem.design_model
+    rows = rows_for(problem, "I", m, log_points(problem.band_hz, 20))
+    rows += rows_for(problem, "III", m, log_points(problem.margin_band_hz, 20))
+    rows += rows_for(problem, "II", m, log_points(problem.effort_band_hz, 20))
+    rows += rows_for(problem, "T", m, log_points(problem.transition_band_hz, 20))
     size = np.max(np.vstack([np.abs(r.M) for r in rows]), axis=0)
     return 1.0 / np.where(size > 0, size, 1.0)
 
@@ -114,16 +124,37 @@ def _margins_on(problem: Problem, dense: list[Rows], x: np.ndarray) -> dict[str,
     return out
 
 
-def _tradeoff(problem: Problem, dense: list[Rows], settings: OptimizationSettings, t_max: float):
+def _tradeoff(problem: Problem, dense: list[Rows], settings: OptimizationSettings, t_max: float, rounds=None):
     """Smallest normalized passivity deficit ``rho`` with the impedance error capped at ``t_max``."""
     return exchange(
         problem,
         dense,
         initial_per_decade=settings.initial_per_decade,
-        max_rounds=settings.max_rounds,
+        max_rounds=rounds or settings.max_rounds,
         tolerance=settings.tolerance,
         t_max=t_max,
     )
+
+
+def _passive(res, settings: OptimizationSettings) -> bool:
+    return bool(res.solution.ok and res.solution.t <= settings.tolerance)
+
+
+def _bisect_error(problem, dense, settings, hi: float, best):
+    """Lower the cap on e_I by bisection while the relaxed problem stays passive (``rho = 0``).
+
+    Used when the direct minimization of e_I stalls in the solver; the
+    feasibility problems of the bisection are better conditioned.
+    """
+    lo = 0.0
+    for _ in range(BISECTION_STEPS):
+        mid = 0.5 * (lo + hi)
+        res = _tradeoff(problem, dense, settings, mid, rounds=BISECTION_ROUNDS)
+        if _passive(res, settings):
+            hi, best = mid, res
+        else:
+            lo = mid
+    return hi, best
 
 
 def _rebuild(problem: Problem, dense: list[Rows]) -> list[Rows]:
@@ -204,24 +235,33 @@ def design_optimized(
     )
     report: dict[str, Any] = {"method": "optimized", "status": res.solution.status}
     final = res
-    if not res.solution.ok or res.solution.t > c.performance_max:
-        best = _tradeoff(problem, dense, st, c.performance_max)
-        report["feasible"] = False
-        report["binding"] = "III" if best.solution.ok else "I"
-        if not best.solution.ok:  # not even a relaxed III meets I: the cap itself binds
-            best = _tradeoff(problem, dense, st, 10.0 * c.performance_max)
-        report["best_tradeoff"] = {
-            "performance_max": c.performance_max,
-            "passivity_deficit": float(best.solution.t) if best.solution.ok else None,
-            "meaning": "min over the robust set of max_f -Re(exp(+-j delta) H_vw)/|H_vw^vs| "
-            "(0 = passive with margin delta) at the allowed impedance error",
-        }
-        if not best.solution.ok:
-            raise ConfigError("basis", "a basis with which the DC equalities and the bounds of II can hold")
-        final = best
+    if res.solution.ok and res.solution.t <= c.performance_max:
+        report.update(feasible=True, binding=None)
     else:
-        report["feasible"] = True
-        report["binding"] = None
+        best = _tradeoff(problem, dense, st, c.performance_max)
+        if _passive(best, st):  # feasible after all: the direct solve stalled
+            cap, final = _bisect_error(problem, dense, st, c.performance_max, best)
+            report.update(
+                feasible=True,
+                binding=None,
+                status=f"{best.solution.status} (e_I minimized by bisection: the direct solve stalled)",
+                error_cap=cap,
+            )
+        else:
+            binding = "III" if best.solution.ok else "I"
+            report.update(feasible=False, binding=binding)
+            report["best_tradeoff"] = {
+                "performance_max": c.performance_max,
+                "passivity_deficit": float(best.solution.t) if best.solution.ok else None,
+                "performance_error_at_margin": float(res.solution.t) if res.solution.ok else None,
+                "meaning": "passivity_deficit: smallest max_f -Re(exp(+-j delta) H_vw) over the robust set, "
+                "in units of |H_vw^vs|, at the allowed impedance error (0: passive with margin delta); "
+                "performance_error_at_margin: the smallest e_I with III held",
+            }
+            if best.solution.ok:
+                final = best
+            elif not res.solution.ok:
+                raise ConfigError("basis", "a basis with which the DC equalities and the bounds of II can hold")
     x = final.solution.x
     design = _finish(params, vs, tm, problem, dense, x, c, st, fc_hz, report, final, start)
     return design
@@ -253,7 +293,8 @@ def _finish(params, vs, tm, problem, dense, x, criteria, settings, fc_hz, report
             "certified": cert.passive,
             "margin_deg": float(problem.margin_deg),
             "dense_margins_deg": _margins_on(problem, dense, x),
-            "objective_on_grid": float(res.solution.t),
+            "objective_on_grid": float(res.solution.t) if report["binding"] is None and "error_cap" not in report
+            else None,
             "rounds": int(res.rounds),
             "grid_points": int(res.grid_points),
             "dense_points_per_decade": int(settings.check_per_decade),
@@ -276,7 +317,8 @@ def _finish(params, vs, tm, problem, dense, x, criteria, settings, fc_hz, report
         notes.append(
             f"infeasible: no controller in the basis meets {report['binding']} with margin "
             f"{settings.margin_deg:g} deg; best trade-off: passivity deficit "
-            f"{report['best_tradeoff']['passivity_deficit']} at e_I <= {criteria.performance_max:.3f}"
+            f"{report['best_tradeoff']['passivity_deficit']} at e_I <= {criteria.performance_max:.3f}; "
+            f"smallest e_I with III: {report['best_tradeoff']['performance_error_at_margin']}"
         )
     if not cert.passive:
         notes.append(f"passivity certificate failed on {cert.model}: Re H_vw < 0 on {cert.negative_hz} Hz")

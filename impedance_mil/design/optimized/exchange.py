@@ -140,13 +140,14 @@ def exchange(
     worst = float("inf")
     for rnd in range(1, max_rounds + 1):
         rows = [_subset(R, idx) for R, idx in zip(dense, active, strict=True)]
-        sol = solve(problem, rows, t_max)
-        solver_time += 0.0 if np.isnan(sol.solve_time_s) else sol.solve_time_s
-        if not sol.ok:
+        trial = solve(problem, rows, t_max)
+        solver_time += 0.0 if np.isnan(trial.solve_time_s) else trial.solve_time_s
+        if not trial.ok:  # keep the last good solution (unconverged) when a later round stalls
             return ExchangeResult(
-                sol, rnd, int(sum(a.size for a in active)), worst, False,
+                sol if sol.ok else trial, rnd, int(sum(a.size for a in active)), worst, False,
                 time.perf_counter() - start, solver_time,
             )
+        sol = trial
         worst, added = -np.inf, 0
         for i, R in enumerate(dense):
             v, vmax = _violations(R, sol, tolerance)
