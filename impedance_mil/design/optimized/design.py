@@ -46,6 +46,9 @@ def _targets(vs: VirtualModel, robust_vs: Mapping[str, VirtualModel]) -> dict[st
     return out
 
 
+#: Re-solves driven by the certificate (points where it finds Re H_vw < 0 between grid points).
+CERTIFY_ROUNDS = 4
+
 #: Bisection steps on the cap of e_I when the direct minimization stalls.
 BISECTION_STEPS = 6
 
@@ -124,7 +127,14 @@ def _margins_on(problem: Problem, dense: list[Rows], x: np.ndarray) -> dict[str,
     return out
 
 
-def _tradeoff(problem: Problem, dense: list[Rows], settings: OptimizationSettings, t_max: float, rounds=None):
+def _tradeoff(
+    problem: Problem,
+    dense: list[Rows],
+    settings: OptimizationSettings,
+    t_max: float,
+    rounds: int | None = None,
+    last_resort: bool = False,
+):
     """Smallest normalized passivity deficit ``rho`` with the impedance error capped at ``t_max``."""
     return exchange(
         problem,
@@ -133,7 +143,49 @@ def _tradeoff(problem: Problem, dense: list[Rows], settings: OptimizationSetting
         max_rounds=rounds or settings.max_rounds,
         tolerance=settings.tolerance,
         t_max=t_max,
+        last_resort=last_resort,
     )
+
+
+def _certificate(params: TableParameters, vs: VirtualModel, problem: Problem, x: np.ndarray):
+    """The grid-free certificate of the coefficients ``x`` on the first-order model (see :mod:`.certify`)."""
+    xz, xw = problem.split(x)
+    Cz, Cw = path_state_space(problem.basis, xz, "z"), path_state_space(problem.basis, xw, "w")
+    table_ss = LinearTable(params, delay="first-order").state_space()
+    return certify(
+        "first-order/" + ("rational" if vs.equivalent is not None else "linear"),
+        closed_velocity(table_ss, _certified_target(vs), Cz, Cw),
+        problem.margin_band_hz,
+    )
+
+
+def _certified_exchange(params, vs, problem: Problem, dense: list[Rows], settings: OptimizationSettings):
+    """Exchange loop, then certificate; where it finds ``Re H_vw < 0`` between grid points, add those
+    frequencies to every model's passivity rows and solve again (at most :data:`CERTIFY_ROUNDS`)."""
+    res = exchange(
+        problem,
+        dense,
+        initial_per_decade=settings.initial_per_decade,
+        max_rounds=settings.max_rounds,
+        tolerance=settings.tolerance,
+    )
+    for rnd in range(CERTIFY_ROUNDS):
+        if not res.solution.ok:
+            return res, dense, rnd
+        cert = _certificate(params, vs, problem, res.solution.x)
+        if cert.passive:
+            return res, dense, rnd
+        bad = np.array([np.sqrt(a * b) for a, b in cert.negative_hz] + [f for a, b in cert.negative_hz for f in (a, b)])
+        for m in problem.models:
+            dense = dense + rows_for(problem, "III", m, np.sort(bad))
+        res = exchange(
+            problem,
+            dense,
+            initial_per_decade=settings.initial_per_decade,
+            max_rounds=settings.max_rounds,
+            tolerance=settings.tolerance,
+        )
+    return res, dense, CERTIFY_ROUNDS
 
 
 def _passive(res, settings: OptimizationSettings) -> bool:
@@ -230,9 +282,7 @@ def design_optimized(
         basis = PoleBasis(basis.poles, basis.integrators, tm.nyquist_hz)
     problem = build_problem(params, vs, robust_vs or {}, c, st, basis)
     dense = dense_rows(problem, st.check_per_decade)
-    res = exchange(
-        problem, dense, initial_per_decade=st.initial_per_decade, max_rounds=st.max_rounds, tolerance=st.tolerance
-    )
+    res, dense, cert_rounds = _certified_exchange(params, vs, problem, dense, st)
     report: dict[str, Any] = {"method": "optimized", "status": res.solution.status}
     final = res
     if res.solution.ok and res.solution.t <= c.performance_max:
@@ -248,6 +298,8 @@ def design_optimized(
                 error_cap=cap,
             )
         else:
+            if not best.solution.ok:
+                best = _tradeoff(problem, dense, st, c.performance_max, last_resort=True)
             binding = "III" if best.solution.ok else "I"
             report.update(feasible=False, binding=binding)
             report["best_tradeoff"] = {
@@ -263,6 +315,7 @@ def design_optimized(
             elif not res.solution.ok:
                 raise ConfigError("basis", "a basis with which the DC equalities and the bounds of II can hold")
     x = final.solution.x
+    report["certificate_rounds"] = int(cert_rounds)
     design = _finish(params, vs, tm, problem, dense, x, c, st, fc_hz, report, final, start)
     return design
 
@@ -280,12 +333,7 @@ def _finish(params, vs, tm, problem, dense, x, criteria, settings, fc_hz, report
     ct = controlled_table(tm, vs, H_uz, H_uw, "standardized")
     result = evaluate_constraints(tm, vs, ct, fc_hz, criteria)
     Cz, Cw = path_state_space(basis, xz, "z"), path_state_space(basis, xw, "w")
-    table_ss = LinearTable(params, delay="first-order").state_space()
-    cert = certify(
-        "first-order/" + ("rational" if vs.equivalent is not None else "linear"),
-        closed_velocity(table_ss, _certified_target(vs), Cz, Cw),
-        problem.margin_band_hz,
-    )
+    cert = _certificate(params, vs, problem, x)
     filt = design_controller(tm, vs, fc_hz=fc_hz, criteria=criteria, emit_warnings=False)
     report.update(
         {

@@ -116,6 +116,7 @@ def exchange(
     max_rounds: int,
     tolerance: float,
     t_max: float | None = None,
+    last_resort: bool = False,
 ) -> ExchangeResult:
     """Run the exchange loop on ``problem`` against the dense rows ``dense``.
 
@@ -132,6 +133,8 @@ def exchange(
         Accepted dense violation (dimensionless).
     t_max : float, optional
         Cap on the impedance error (trade-off search) passed to :func:`~.problem.solve`.
+    last_resort : bool
+        Let :func:`~.problem.solve` fall back to SCS.
     """
     start = time.perf_counter()
     active = [_initial_index(R, initial_per_decade) for R in dense]
@@ -140,7 +143,7 @@ def exchange(
     worst = float("inf")
     for rnd in range(1, max_rounds + 1):
         rows = [_subset(R, idx) for R, idx in zip(dense, active, strict=True)]
-        trial = solve(problem, rows, t_max)
+        trial = solve(problem, rows, t_max, last_resort)
         solver_time += 0.0 if np.isnan(trial.solve_time_s) else trial.solve_time_s
         if not trial.ok:  # keep the last good solution (unconverged) when a later round stalls
             return ExchangeResult(

@@ -42,7 +42,7 @@ COEFFICIENT_BOUND = 1e4
 #: Clarabel settings tried in turn: its defaults (gap 1e-8), then a gap of 1e-6 when it stalls
 #: ("insufficient progress" near the optimum of these badly scaled frequency-domain problems;
 #: a relative gap of 1e-6 on e_I is far below what the constraints resolve).
-#: SCS (first-order, installed with cvxpy) is the last resort.
+#: SCS (first-order, installed with cvxpy) is the last resort of the trade-off search only.
 SOLVER_ATTEMPTS = (
     ("CLARABEL", {}),
     ("CLARABEL", {"tol_gap_abs": 1e-6, "tol_gap_rel": 1e-6, "tol_feas": 1e-7, "max_iter": 400}),
@@ -329,12 +329,15 @@ class GridSolution:
         return self.status.split(" ")[0] in ("optimal", "optimal_inaccurate") and self.x is not None
 
 
-def solve(problem: Problem, rows: list[Rows], t_max: float | None = None) -> GridSolution:
+def solve(
+    problem: Problem, rows: list[Rows], t_max: float | None = None, last_resort: bool = False
+) -> GridSolution:
     """Solve the problem on the rows.
 
     With ``t_max`` (the trade-off search) the impedance error is capped at
     ``t_max`` and the passivity rows are relaxed to ``>= -rho``; ``rho``, the
     largest normalized passivity deficit, is minimized and returned as ``t``.
+    ``last_resort`` lets SCS try when every Clarabel setting fails.
     """
     cvx = require_solver()
     scale = problem.scale
@@ -373,6 +376,8 @@ def solve(problem: Problem, rows: list[Rows], t_max: float | None = None) -> Gri
     prob = cvx.Problem(cvx.Minimize(objective), cons)
     used = "CLARABEL"
     for used, options in SOLVER_ATTEMPTS:
+        if used == "SCS" and not last_resort:
+            continue  # slow and inaccurate: only for the trade-off report of an infeasible design
         try:
             prob.solve(solver=used, **options)
             if y.value is not None:
