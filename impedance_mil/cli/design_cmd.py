@@ -138,6 +138,9 @@ def design(
     robust_amplitudes: str = typer.Option(
         "0.25,4", "--robust-amplitudes", help="Optimized, LR/FP: further DF amplitudes [in] of the robust set."
     ),
+    grid: int = typer.Option(
+        OptimizationSettings().check_per_decade, "--grid", help="Optimized: dense check grid [points/decade]."
+    ),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
     plots: Path | None = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
     output: Path | None = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
@@ -187,7 +190,7 @@ def design(
             raise ConfigError("--method", "a VS (--vs) and the standardized form for the optimized design")
         if spec is None:
             raise ConfigError("--vs", "a VS preset or file")
-        result = _optimized(params, spec, lin, vm, fcs[0], criteria, margin, margin_band, robust_amplitudes)
+        result = _optimized(params, spec, lin, vm, fcs[0], criteria, (margin, margin_band, grid), robust_amplitudes)
         if output is not None:
             save_design(result, output)
         doc = result.to_json()
@@ -237,12 +240,16 @@ def design(
     _print_human(result, reasons, study, written)
 
 
-def _optimized(params, spec: VSSpec, lin, vm: VirtualModel, fc_hz, criteria, margin, margin_band, amplitudes):
+def _optimized(params, spec: VSSpec, lin, vm: VirtualModel, fc_hz, criteria, options, amplitudes):
     """The optimized design (Section 10.4) with the robust set of the CLI options."""
+    margin, margin_band, grid = options
     band = _parse_list("--margin-band", margin_band, 2)
-    with option_errors({"margin": "--margin", "margin_band": "--margin-band", "basis": "--method"}):
+    keys = {"margin": "--margin", "margin_band": "--margin-band", "basis": "--method", "check_per_decade": "--grid"}
+    with option_errors(keys):
         settings = OptimizationSettings(
-            margin_deg=margin, passivity_band_hz=None if band is None else (band[0], band[1])
+            margin_deg=margin,
+            passivity_band_hz=None if band is None else (band[0], band[1]),
+            check_per_decade=grid,
         )
         robust = {}
         if vm.equivalent is not None:
