@@ -39,6 +39,9 @@ from .passivity import PassivityResult, log_grid_hz, passivity
 #: Half-power complex relative error, 1 - 10**(-3/20).
 HALF_POWER_ERROR = 1.0 - 10.0 ** (-3.0 / 20.0)
 
+#: Fields of :class:`ConstraintResult` that may be absent (None): the passivity indices.
+OPTIONAL_FIELDS = ("passivity_margin_sampled_deg", "passivity_index")
+
 #: Points per decade for the performance and effort metrics.
 GRID_PER_DECADE = 200
 
@@ -174,11 +177,11 @@ class ConstraintResult:
         Margin after the delay-model tolerance [deg]; III holds when >= 0 and stable.
     stable : bool
         The controlled table ``H_vw`` is stable.
-    passivity_margin_sampled_deg : float
-        Raw passivity margin [deg] on the exact sampled-data table (NaN when not evaluated;
+    passivity_margin_sampled_deg : float or None
+        Raw passivity margin [deg] on the exact sampled-data table (None when not evaluated;
         :mod:`impedance_mil.design.optimized.indices`).
-    passivity_index : float
-        ``min Re(1/H_vw)`` [lbf*s/in], the smallest equivalent damping (NaN when not evaluated).
+    passivity_index : float or None
+        ``min Re(1/H_vw)`` [lbf*s/in], the smallest equivalent damping (None when not evaluated).
     """
 
     fc_hz: float
@@ -196,8 +199,8 @@ class ConstraintResult:
     passivity_tolerant_margin_deg: float
     passivity_tolerant_worst_hz: float
     stable: bool
-    passivity_margin_sampled_deg: float = float("nan")
-    passivity_index: float = float("nan")
+    passivity_margin_sampled_deg: float | None = None
+    passivity_index: float | None = None
 
     @property
     def all_satisfied(self) -> bool:
@@ -205,7 +208,8 @@ class ConstraintResult:
 
     def to_dict(self) -> dict:
         return {
-            k: (bool(v) if isinstance(v, (bool, np.bool_)) else float(v)) for k, v in asdict(self).items()
+            k: (bool(v) if isinstance(v, (bool, np.bool_)) else None if v is None else float(v))
+            for k, v in asdict(self).items()
         }
 
     def violations(self) -> list[str]:

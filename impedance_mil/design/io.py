@@ -37,7 +37,7 @@ from ..fileio import atomic_write_text, json_safe, parse_json, read_text
 from ..plant.parameters import FIELDS as TABLE_FIELDS
 from ..plausibility import TABLE_BOUNDS, check_table
 from ..systems import TransferFunction
-from .constraints import ConstraintResult
+from .constraints import OPTIONAL_FIELDS, ConstraintResult
 from .controller import ControllerDesign, FilterSpec
 from .filters import FAMILIES
 from .forms import FORMS, REFERENCE_INPUT
@@ -331,15 +331,18 @@ def _constraints(entries: Any) -> tuple[ConstraintResult, ...]:
     if not isinstance(entries, list):
         raise ConfigError("constraints", "a list of constraint results", _shown(entries))
     names = [f.name for f in dataclasses.fields(ConstraintResult)]
+    required = [n for n in names if n not in OPTIONAL_FIELDS]  # the optional ones came with version 2
     out = []
     for i, entry in enumerate(entries):
         key = f"constraints[{i}]"
-        if not isinstance(entry, dict) or set(entry) != set(names):
+        if not isinstance(entry, dict) or not set(required) <= set(entry) <= set(names):
             raise ConfigError(key, "an object with the keys " + ", ".join(names), _shown(entry))
         values: dict[str, Any] = {}
         for name in names:
-            value = entry[name]
-            if name in _VERDICTS:
+            value = entry.get(name)
+            if name in OPTIONAL_FIELDS and value is None:
+                values[name] = None
+            elif name in _VERDICTS:
                 if not isinstance(value, bool):
                     raise ConfigError(f"{key}.{name}", "true or false", _shown(value))
                 values[name] = value
