@@ -127,7 +127,9 @@ def design(
         DEFAULT_AMPLITUDE_IN, "--amplitude", help="Design displacement amplitude of the LR/FP isolator [in]."
     ),
     method: str = typer.Option(
-        "filter", "--method", help="filter (Section 6.4) | optimized (Section 10.4: convex, certified passivity)."
+        "filter",
+        "--method",
+        help="filter (Section 6.4) | optimized (Section 10.4: convex, certified passivity).",
     ),
     margin: float = typer.Option(
         0.0, "--margin", help="Optimized: passivity margin delta [deg], phase of H_vw within +-(90 - delta)."
@@ -136,7 +138,9 @@ def design(
         None, "--margin-band", help="Optimized: band LO,HI [Hz] of the margin (default 0.01 Hz to Nyquist)."
     ),
     robust_amplitudes: str = typer.Option(
-        "0.25,4", "--robust-amplitudes", help="Optimized, LR/FP: further DF amplitudes [in] of the robust set."
+        "0.25,4",
+        "--robust-amplitudes",
+        help="Optimized, LR/FP: further DF amplitudes [in] of the robust set.",
     ),
     grid: int = typer.Option(
         OptimizationSettings().check_per_decade, "--grid", help="Optimized: dense check grid [points/decade]."
@@ -190,7 +194,11 @@ def design(
             raise ConfigError("--method", "a VS (--vs) and the standardized form for the optimized design")
         if spec is None:
             raise ConfigError("--vs", "a VS preset or file")
-        result = _optimized(params, spec, lin, vm, fcs[0], criteria, (margin, margin_band, grid), robust_amplitudes)
+        if fcs is None:
+            raise ConfigError("--fc", "a reference cut-off in Hz for --method optimized (not auto)", fc)
+        result = _optimized(
+            params, spec, lin, vm, fcs[0], criteria, (margin, margin_band, grid), robust_amplitudes
+        )
         if output is not None:
             save_design(result, output)
         doc = result.to_json()
@@ -243,19 +251,26 @@ def design(
 def _optimized(params, spec: VSSpec, lin, vm: VirtualModel, fc_hz, criteria, options, amplitudes):
     """The optimized design (Section 10.4) with the robust set of the CLI options."""
     margin, margin_band, grid = options
-    band = _parse_list("--margin-band", margin_band, 2)
-    keys = {"margin": "--margin", "margin_band": "--margin-band", "basis": "--method", "check_per_decade": "--grid"}
+    band = _parse_list("--margin-band", margin_band, 2) or []
+    keys = {
+        "margin": "--margin",
+        "margin_band": "--margin-band",
+        "basis": "--method",
+        "check_per_decade": "--grid",
+    }
     with option_errors(keys):
         settings = OptimizationSettings(
             margin_deg=margin,
-            passivity_band_hz=None if band is None else (band[0], band[1]),
+            passivity_band_hz=(band[0], band[1]) if band else None,
             check_per_decade=grid,
         )
         robust = {}
         if vm.equivalent is not None:
             for a in _parse_list("--robust-amplitudes", amplitudes) or []:
                 robust[f"DF {a:g} in"] = virtual_model(spec.vs, spec.name, **{**lin, "amplitude_in": a})
-        return design_optimized(params, vm, robust_vs=robust, fc_hz=fc_hz, criteria=criteria, settings=settings)
+        return design_optimized(
+            params, vm, robust_vs=robust, fc_hz=fc_hz, criteria=criteria, settings=settings
+        )
 
 
 def _mass_ratio_rows(

@@ -156,7 +156,11 @@ class ControllerDesign:
             if self.feasible_fc_hz is None
             else [float(x) for x in self.feasible_fc_hz],
             "warnings": list(self.warnings),
-            **({} if self.optimization is None else {"method": "optimized", "optimization": self.optimization}),
+            **(
+                {}
+                if self.optimization is None
+                else {"method": "optimized", "optimization": self.optimization}
+            ),
         }
 
 

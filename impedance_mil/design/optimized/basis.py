@@ -131,7 +131,7 @@ class PoleBasis:
         return sum(1 if q.imag == 0 else 2 for q in self.poles)
 
     def _pole_columns(self, s: np.ndarray) -> np.ndarray:
-        cols = []
+        cols: list[np.ndarray] = []
         for q in self.poles:
             m = abs(q)
             if q.imag == 0:
@@ -166,7 +166,8 @@ class PoleBasis:
         built by polynomial products; no polynomial roots are taken.
         """
         x = np.asarray(coefficients, dtype=float)
-        den_parts, terms = [], []  # terms: (numerator, index of its own denominator factor or None)
+        den_parts: list[np.ndarray] = []
+        terms: list[tuple[np.ndarray, object]] = []  # (numerator, its own denominator factor or None)
         k = 0
         if path == "z" and self.integrators:
             terms += [(np.array([x[0]]), "s2"), (np.array([x[1]]), "s1"), (np.array([x[2]]), None)]
@@ -186,10 +187,10 @@ class PoleBasis:
                 terms.append((2 * m * (x[k] * np.array([1.0, a]) + x[k + 1] * np.array([0.0, b])), i))
                 k += 2
         integ = np.array([1.0, 0.0, 0.0]) if (path == "z" and self.integrators) else np.ones(1)
-        den = integ
+        den: np.ndarray = integ
         for part in den_parts:
             den = np.polymul(den, part)
-        num = np.zeros(1)
+        num: np.ndarray = np.zeros(1)
         for coeff, own in terms:
             other = np.ones(1)
             if own == "s2":

@@ -45,7 +45,9 @@ class StateSpace:
     def response(self, s: np.ndarray) -> np.ndarray:
         n = self.A.shape[0]
         eye = np.eye(n)
-        return np.array([self.C @ np.linalg.solve(p * eye - self.A, self.B) + self.D for p in np.atleast_1d(s)])
+        return np.array(
+            [self.C @ np.linalg.solve(p * eye - self.A, self.B) + self.D for p in np.atleast_1d(s)]
+        )
 
     def to_dict(self) -> dict:
         return {
@@ -102,7 +104,9 @@ def _series(first: StateSpace, second: StateSpace) -> StateSpace:
 
 
 def _parallel(a: StateSpace, b: StateSpace) -> StateSpace:
-    return StateSpace(scipy.linalg.block_diag(a.A, b.A), np.concatenate([a.B, b.B]), np.concatenate([a.C, b.C]), a.D + b.D)
+    return StateSpace(
+        scipy.linalg.block_diag(a.A, b.A), np.concatenate([a.B, b.B]), np.concatenate([a.C, b.C]), a.D + b.D
+    )
 
 
 def closed_velocity(table_ss, target_tf: TransferFunction, C_z: StateSpace, C_w: StateSpace) -> StateSpace:
@@ -206,6 +210,11 @@ def certify(model: str, H: StateSpace, band_hz: tuple[float, float]) -> Certific
     cos_all = np.concatenate([cosphi, np.real(ends) / np.abs(ends)])
     passive = not negative and bool(np.all(np.real(ends) >= 0))
     return Certificate(
-        model, (float(lo), float(hi)), passive, tuple(float(c) for c in inside), negative,
-        float(np.min(cos_all)), int(H.A.shape[0]),
+        model,
+        (float(lo), float(hi)),
+        passive,
+        tuple(float(c) for c in inside),
+        negative,
+        float(np.min(cos_all)),
+        int(H.A.shape[0]),
     )

@@ -170,12 +170,15 @@ def _certified_exchange(params, vs, problem: Problem, dense: list[Rows], setting
         tolerance=settings.tolerance,
     )
     for rnd in range(CERTIFY_ROUNDS):
-        if not res.solution.ok:
+        x = res.solution.x
+        if x is None or not res.solution.ok:
             return res, dense, rnd
-        cert = _certificate(params, vs, problem, res.solution.x)
+        cert = _certificate(params, vs, problem, x)
         if cert.passive:
             return res, dense, rnd
-        bad = np.array([np.sqrt(a * b) for a, b in cert.negative_hz] + [f for a, b in cert.negative_hz for f in (a, b)])
+        bad = np.array(
+            [np.sqrt(a * b) for a, b in cert.negative_hz] + [f for a, b in cert.negative_hz for f in (a, b)]
+        )
         for m in problem.models:
             dense = dense + rows_for(problem, "III", m, np.sort(bad))
         res = exchange(
@@ -275,7 +278,9 @@ def design_optimized(
     st = settings or OptimizationSettings()
     tm = table_model(params)
     if not (np.isfinite(fc_hz) and 0 < fc_hz < tm.nyquist_hz):
-        raise ConfigError("fc", f"a reference cut-off in Hz below the Nyquist frequency {tm.nyquist_hz:g}", fc_hz)
+        raise ConfigError(
+            "fc", f"a reference cut-off in Hz below the Nyquist frequency {tm.nyquist_hz:g}", fc_hz
+        )
     st.margin_band(tm.nyquist_hz)
     basis = basis or default_basis(fc_hz, tm.nyquist_hz)
     if basis.max_hz is None or basis.max_hz > tm.nyquist_hz:
@@ -313,14 +318,18 @@ def design_optimized(
             if best.solution.ok:
                 final = best
             elif not res.solution.ok:
-                raise ConfigError("basis", "a basis with which the DC equalities and the bounds of II can hold")
+                raise ConfigError(
+                    "basis", "a basis with which the DC equalities and the bounds of II can hold"
+                )
     x = final.solution.x
     report["certificate_rounds"] = int(cert_rounds)
     design = _finish(params, vs, tm, problem, dense, x, c, st, fc_hz, report, final, start)
     return design
 
 
-def _finish(params, vs, tm, problem, dense, x, criteria, settings, fc_hz, report, res, start) -> ControllerDesign:
+def _finish(
+    params, vs, tm, problem, dense, x, criteria, settings, fc_hz, report, res, start
+) -> ControllerDesign:
     """Render the coefficients as a ControllerDesign with the constraints, indices and certificates."""
     basis = problem.basis
     xz, xw = problem.split(x)
@@ -341,7 +350,8 @@ def _finish(params, vs, tm, problem, dense, x, criteria, settings, fc_hz, report
             "certified": cert.passive,
             "margin_deg": float(problem.margin_deg),
             "dense_margins_deg": _margins_on(problem, dense, x),
-            "objective_on_grid": float(res.solution.t) if report["binding"] is None and "error_cap" not in report
+            "objective_on_grid": float(res.solution.t)
+            if report["binding"] is None and "error_cap" not in report
             else None,
             "rounds": int(res.rounds),
             "grid_points": int(res.grid_points),
@@ -360,6 +370,11 @@ def _finish(params, vs, tm, problem, dense, x, criteria, settings, fc_hz, report
             "filter_design": filt.constraints[0].to_dict(),
         }
     )
+    if not report["feasible"] and result.all_satisfied and cert.passive:
+        # The trade-off solution meets I, II and III after all (its deficit was solver round-off).
+        report.update(
+            feasible=True, binding=None, status=report["status"] + " (trade-off solution satisfies I/II/III)"
+        )
     notes = list(result.violations())
     if not report["feasible"]:
         notes.append(
@@ -388,4 +403,3 @@ def _finish(params, vs, tm, problem, dense, x, criteria, settings, fc_hz, report
 
 
 __all__ = ["design_optimized", "build_problem", "OptimizationSettings", "PoleBasis"]
-

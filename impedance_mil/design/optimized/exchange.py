@@ -102,6 +102,8 @@ def _worst_points(v: np.ndarray, tol: float, k: int) -> np.ndarray:
 
 
 def _violations(R: Rows, sol: GridSolution, tol: float) -> tuple[np.ndarray, float]:
+    if sol.x is None:
+        return np.full(R.f_hz.size, np.inf), float("inf")
     v = R.violation(sol.x, sol.t)
     if R.kind == "I":
         v = v - OBJECTIVE_RTOL * max(sol.t, tol)
@@ -147,8 +149,13 @@ def exchange(
         solver_time += 0.0 if np.isnan(trial.solve_time_s) else trial.solve_time_s
         if not trial.ok:  # keep the last good solution (unconverged) when a later round stalls
             return ExchangeResult(
-                sol if sol.ok else trial, rnd, int(sum(a.size for a in active)), worst, False,
-                time.perf_counter() - start, solver_time,
+                sol if sol.ok else trial,
+                rnd,
+                int(sum(a.size for a in active)),
+                worst,
+                False,
+                time.perf_counter() - start,
+                solver_time,
             )
         sol = trial
         worst, added = -np.inf, 0
@@ -162,10 +169,20 @@ def exchange(
                 added += new.size
         if added == 0:
             return ExchangeResult(
-                sol, rnd, int(sum(a.size for a in active)), float(worst), True,
-                time.perf_counter() - start, solver_time,
+                sol,
+                rnd,
+                int(sum(a.size for a in active)),
+                float(worst),
+                True,
+                time.perf_counter() - start,
+                solver_time,
             )
     return ExchangeResult(
-        sol, max_rounds, int(sum(a.size for a in active)), float(worst), False,
-        time.perf_counter() - start, solver_time,
+        sol,
+        max_rounds,
+        int(sum(a.size for a in active)),
+        float(worst),
+        False,
+        time.perf_counter() - start,
+        solver_time,
     )

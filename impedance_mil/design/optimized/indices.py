@@ -22,9 +22,8 @@ import dataclasses
 import numpy as np
 
 from ...plant import TableParameters
-from ...units import TWO_PI
 from ..adapters import table_model
-from ..constraints import DesignCriteria, controlled_table, target_impedance
+from ..constraints import DesignCriteria, controlled_table
 from ..controller import ControllerDesign
 from ..forms import VirtualModel
 from .exchange import log_points
@@ -34,9 +33,9 @@ from .models import SAMPLED_TOP_FRACTION, robust_set
 INDEX_PER_DECADE = 1000
 
 
-
-def sampled_margin_deg(design: ControllerDesign, params: TableParameters, vs: VirtualModel | None,
-                       band_hz: tuple[float, float]) -> tuple[float, float]:
+def sampled_margin_deg(
+    design: ControllerDesign, params: TableParameters, vs: VirtualModel | None, band_hz: tuple[float, float]
+) -> tuple[float, float]:
     """Passivity margin [deg] of ``design`` on the sampled-data table, and where [Hz]."""
     targets = {"vs": vs} if vs is not None else {}
     if not targets:
@@ -51,8 +50,9 @@ def sampled_margin_deg(design: ControllerDesign, params: TableParameters, vs: Vi
     return float(m[i]), float(f[i])
 
 
-def passivity_index(design: ControllerDesign, params: TableParameters, vs: VirtualModel | None,
-                    band_hz: tuple[float, float]) -> tuple[float, float]:
+def passivity_index(
+    design: ControllerDesign, params: TableParameters, vs: VirtualModel | None, band_hz: tuple[float, float]
+) -> tuple[float, float]:
     """``min Re(1/H_vw)`` [lbf*s/in] on the first-order model over ``band_hz`` [Hz], and where [Hz]."""
     if vs is None:
         return float("nan"), float("nan")

@@ -22,6 +22,7 @@ own ``H_vw``), and the coefficients by their column sizes.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -30,6 +31,7 @@ from ...units import TWO_PI
 from .basis import PoleBasis
 from .models import LoopModel
 
+cp: Any
 try:  # the optional extra: pip install 'impedance-mil[optimize]'
     import cvxpy as cp
 except ImportError:  # pragma: no cover - exercised by test_missing_solver via monkeypatch
@@ -43,7 +45,7 @@ COEFFICIENT_BOUND = 1e4
 #: ("insufficient progress" near the optimum of these badly scaled frequency-domain problems;
 #: a relative gap of 1e-6 on e_I is far below what the constraints resolve).
 #: SCS (first-order, installed with cvxpy) is the last resort of the trade-off search only.
-SOLVER_ATTEMPTS = (
+SOLVER_ATTEMPTS: tuple[tuple[str, dict[str, Any]], ...] = (
     ("CLARABEL", {}),
     ("CLARABEL", {"tol_gap_abs": 1e-6, "tol_gap_rel": 1e-6, "tol_feas": 1e-7, "max_iter": 400}),
     ("CLARABEL", {"tol_gap_abs": 1e-5, "tol_gap_rel": 1e-5, "tol_feas": 1e-6, "max_iter": 400}),
@@ -54,9 +56,7 @@ SOLVER_ATTEMPTS = (
 ROW_SCALE_MAX = 1e3
 
 #: Message when the solver is missing.
-MISSING_SOLVER = (
-    "the optimized design needs cvxpy and Clarabel: pip install 'impedance-mil[optimize]'"
-)
+MISSING_SOLVER = "the optimized design needs cvxpy and Clarabel: pip install 'impedance-mil[optimize]'"
 
 
 def require_solver():

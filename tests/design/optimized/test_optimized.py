@@ -33,7 +33,6 @@ from impedance_mil.design.optimized.exchange import log_points
 from impedance_mil.errors import ConfigError, MissingDependencyError
 from impedance_mil.implement.discretize import discretize
 from impedance_mil.plant import LinearTable, TableParameters
-from impedance_mil.systems import TransferFunction
 from impedance_mil.units import TWO_PI
 from impedance_mil.virtual.files import resolve
 
@@ -113,7 +112,9 @@ def test_certificate_finds_the_crossings_a_fine_grid_sees():
     fd = design_controller(tm, vm, fc_hz=80.0, emit_warnings=False)
     from impedance_mil.design.optimized.certify import _tf_state_space
 
-    H = closed_velocity(LinearTable(PARAMS).state_space(), vm.H_zw, _tf_state_space(fd.H_uz), _tf_state_space(fd.H_uw))
+    H = closed_velocity(
+        LinearTable(PARAMS).state_space(), vm.H_zw, _tf_state_space(fd.H_uz), _tf_state_space(fd.H_uw)
+    )
     cert = certify("filter", H, (0.01, 1000.0))
     f = np.logspace(-2, 3, 200_001)
     re = controlled_table(tm, vm, fd.H_uz, fd.H_uw, "standardized").velocity_response(f).real
@@ -191,14 +192,34 @@ def test_design_file_round_trip_and_export_c(designs, tmp_path):
 def test_cli_optimized_json_contract(tmp_path):
     res = runner.invoke(
         app,
-        ["design", "--vs", "FP2", "--method", "optimized", "--robust-amplitudes", "4", "--grid", "100",
-         "--json", "-o", str(tmp_path / "d.json")],
+        [
+            "design",
+            "--vs",
+            "FP2",
+            "--method",
+            "optimized",
+            "--robust-amplitudes",
+            "4",
+            "--grid",
+            "100",
+            "--json",
+            "-o",
+            str(tmp_path / "d.json"),
+        ],
     )
     assert res.exit_code == 0, res.output
     doc = json.loads(res.stdout)
     c = doc["constraints"][0]
-    for key in ("I", "II", "III", "performance_error", "effort_ratio", "passivity_margin_deg",
-                "passivity_margin_sampled_deg", "passivity_index"):
+    for key in (
+        "I",
+        "II",
+        "III",
+        "performance_error",
+        "effort_ratio",
+        "passivity_margin_deg",
+        "passivity_margin_sampled_deg",
+        "passivity_index",
+    ):
         assert key in c
     assert doc["method"] == "optimized" and doc["optimization"]["certified"]
     assert set(doc["optimization"]["state_space"]["H_uz"]) == {"A", "B", "C", "D"}
