@@ -49,6 +49,24 @@ class StateSpace:
             [self.C @ np.linalg.solve(p * eye - self.A, self.B) + self.D for p in np.atleast_1d(s)]
         )
 
+    def zpk(self) -> dict:
+        """Zeros and poles [rad/s] as ``[re, im]`` pairs and the gain, from eigenvalues (no polynomial roots).
+
+        Zeros are the finite generalized eigenvalues of the Rosenbrock pencil
+        ``[[A, B], [C, D]] - s [[I, 0], [0, 0]]``; the gain is that of the monic factors.
+        """
+        n = self.A.shape[0]
+        M = np.block([[self.A, self.B[:, None]], [self.C[None, :], np.array([[self.D]])]])
+        N = scipy.linalg.block_diag(np.eye(n), np.zeros((1, 1)))
+        z = scipy.linalg.eig(M, N, right=False)
+        z = z[np.isfinite(z) & (np.abs(z) < 1e12)]
+        p = np.linalg.eigvals(self.A)
+        s0 = 1j * float(np.max(np.abs(p)) + 1.0)  # a point away from every root
+        shape = np.prod(s0 - z) / np.prod(s0 - p)
+        gain = float(np.real(self.response(np.array([s0]))[0] / shape))
+        pair = lambda r: [[float(v.real), float(v.imag)] for v in sorted(r, key=abs)]  # noqa: E731
+        return {"zeros": pair(z), "poles": pair(p), "gain": gain}
+
     def to_dict(self) -> dict:
         return {
             "A": self.A.tolist(),

@@ -367,6 +367,7 @@ def _finish(
             "models": [m.name for m in problem.models],
             "realization_error": float(np.max(np.abs(rendered / exact - 1.0))),
             "state_space": {"H_uz": Cz.to_dict(), "H_uw": Cw.to_dict()},
+            "zpk": {"H_uz": Cz.zpk(), "H_uw": Cw.zpk()},
             "filter_design": filt.constraints[0].to_dict(),
         }
     )

@@ -223,6 +223,14 @@ def test_cli_optimized_json_contract(tmp_path):
         assert key in c
     assert doc["method"] == "optimized" and doc["optimization"]["certified"]
     assert set(doc["optimization"]["state_space"]["H_uz"]) == {"A", "B", "C", "D"}
+    # zpk from eigenvalues reproduces the transfer function (independent of the polynomials).
+    zpk = doc["optimization"]["zpk"]["H_uw"]
+    z = np.array([complex(*v) for v in zpk["zeros"]])
+    p = np.array([complex(*v) for v in zpk["poles"]])
+    s = 1j * TWO_PI * np.logspace(-1, 2.5, 15)
+    H = load_design(tmp_path / "d.json").H_uw
+    from_zpk = zpk["gain"] * np.prod(s[:, None] - z, axis=1) / np.prod(s[:, None] - p, axis=1)
+    assert np.max(np.abs(from_zpk / H(s) - 1)) < 1e-6
 
 
 def test_cli_refuses_bad_margin_band_in_one_line():
