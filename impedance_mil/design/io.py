@@ -54,6 +54,9 @@ VERSION_OPTIMIZED = 2
 
 #: Versions this reader accepts.
 SUPPORTED_VERSIONS = (VERSION, VERSION_OPTIMIZED)
+#: ``filter.family`` of an optimized design (its paths are not a filtered standard form;
+#: the orders are those of the partial-fraction basis).
+OPTIMIZED_FAMILY = "optimized"
 
 _REQUIRED = (
     "format",
@@ -298,8 +301,10 @@ def _filter(flt: Any) -> FilterSpec:
         if key not in flt:
             raise ConfigError(f"filter.{key}", "present")
     family = _string("filter.family", flt["family"])
-    if family not in FAMILIES:
-        raise ConfigError("filter.family", "one of " + ", ".join(FAMILIES), _shown(family))
+    if family not in (*FAMILIES, OPTIMIZED_FAMILY):
+        raise ConfigError(
+            "filter.family", "one of " + ", ".join((*FAMILIES, OPTIMIZED_FAMILY)), _shown(family)
+        )
     ripple = _number("filter.ripple_db", flt.get("ripple_db", 0.5), "nonnegative")
     if ripple >= _MAX_RIPPLE_DB:
         raise ConfigError("filter.ripple_db", f"a ripple below {_MAX_RIPPLE_DB:g} dB", ripple)

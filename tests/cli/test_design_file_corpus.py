@@ -37,6 +37,9 @@ WRONG_VALUES = {
 
 #: Constraint fields by the values they may take (the others are verdicts, true or false).
 _SIGNED = ("magnitude_error_db", "phase_error_deg", "passivity_margin_deg", "passivity_tolerant_margin_deg")
+# The passivity indices (issue 15): signed (a non-passive design has a negative index), null when
+# not evaluated.
+_SIGNED += ("passivity_margin_sampled_deg", "passivity_index")
 _NONNEGATIVE = ("performance_error", "effort_ratio", "performance_worst_hz", "effort_worst_hz")
 _NONNEGATIVE += ("passivity_worst_hz", "passivity_tolerant_worst_hz")
 

@@ -25,6 +25,7 @@ from ..adapters import table_model
 from ..constraints import DesignCriteria, controlled_table, evaluate_constraints, target_impedance
 from ..controller import ControllerDesign, FilterSpec, design_controller
 from ..forms import VirtualModel, ideal_controller
+from ..io import OPTIMIZED_FAMILY
 from .basis import PoleBasis, default_basis
 from .certify import certify, closed_velocity, path_state_space
 from .exchange import dense_rows, exchange, log_points
@@ -390,7 +391,7 @@ def _finish(
         form="standardized",
         reference="z_vs",
         fc_hz=float(fc_hz),
-        filter=FilterSpec("optimized", basis.n_z - 1, basis.n_w - 1, 0, 0.5, None),
+        filter=FilterSpec(OPTIMIZED_FAMILY, basis.n_z - 1, basis.n_w - 1, 0, 0.5, None),
         loop_time_s=float(tm.loop_time_s),
         H_uz=H_uz,
         H_uw=H_uw,
