@@ -12,6 +12,7 @@ renamed into place; :func:`load_run` reads it back.
 
 from __future__ import annotations
 
+import hashlib
 import json
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -30,7 +31,7 @@ from .trips import Trip, TripCause
 #: Format tag written in every run file.
 FILE_FORMAT = "impedance-mil run 1"
 #: Root attributes and groups of a run file (``save_run``'s extras may not replace them).
-RUN_ATTRS = ("format", "software_version", "mode", "loop_time_s", "config_json", "trip_json")
+RUN_ATTRS = ("format", "software_version", "mode", "loop_time_s", "config_json", "trip_json", "data_sha256")
 RUN_GROUPS = ("channels", "vs_states")
 
 
@@ -136,9 +137,44 @@ def save_run(
             grp.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
         ds = f.create_dataset("vs_states", data=result.vs_states)
         ds.attrs["names"] = json.dumps(list(result.vs_state_names))
+        f.attrs["data_sha256"] = data_digest(result.channels, result.vs_states)
         f.attrs.update(extra_attrs)
         _write_groups(f, extra_groups)
     return path
+
+
+def data_digest(channels: Mapping[str, np.ndarray], vs_states: np.ndarray) -> str:
+    """SHA-256 of a run's records: every channel (name, dtype, shape, bytes) in name order, then the VS states.
+
+    Stored at write time as ``data_sha256`` and checked by :func:`load_run`, so a
+    file damaged after it was written (a truncated copy, zeroed blocks that still
+    decompress) is refused instead of plotted.
+    """
+    h = hashlib.sha256()
+    for name in sorted(channels):
+        arr = np.ascontiguousarray(channels[name])
+        h.update(f"{name}:{arr.dtype.str}:{arr.shape}".encode())
+        h.update(arr.tobytes())
+    states = np.ascontiguousarray(vs_states)
+    h.update(f"vs_states:{states.dtype.str}:{states.shape}".encode())
+    h.update(states.tobytes())
+    return h.hexdigest()
+
+
+def _check_records(
+    path: Path, channels: Mapping[str, np.ndarray], vs_states: np.ndarray, stored: Any
+) -> None:
+    """Shapes (one length for every record) and, when the file has one, the stored checksum."""
+    lengths = {name: arr.shape for name, arr in channels.items()}
+    n = vs_states.shape[0] if vs_states.ndim == 2 else None
+    bad = [name for name, shape in lengths.items() if len(shape) != 1 or shape[0] != n]
+    if n is None or bad:
+        where = bad[0] if bad else "vs_states"
+        raise DataFileError(path, f"{where}: records of unequal length (the file is damaged)")
+    if stored is not None and str(stored) != data_digest(channels, vs_states):
+        raise DataFileError(
+            path, "data_sha256: the records do not match the checksum written with them (the file is damaged)"
+        )
 
 
 def _trip_record(trip: Trip | None) -> dict | None:
@@ -178,11 +214,15 @@ def load_run(path: str | Path) -> RunResult:
         with h5py.File(path, "r") as f:
             if f.attrs.get("format") != FILE_FORMAT:
                 raise DataFileError(path, f"not an impedance-mil run file (format {FILE_FORMAT!r})")
-            channels = {name: np.asarray(f["channels"][name]) for name in CHANNELS if name in f["channels"]}
+            stored = {name: np.asarray(f["channels"][name]) for name in f["channels"]}
+            vs_states = np.asarray(f["vs_states"])
+            # Files written before checksums (software 0.1.0 before issue 18) have none: shapes only.
+            _check_records(path, stored, vs_states, f.attrs.get("data_sha256"))
+            channels = {name: stored[name] for name in CHANNELS if name in stored}
             trip = json.loads(f.attrs["trip_json"])
             return RunResult(
                 channels=channels,
-                vs_states=np.asarray(f["vs_states"]),
+                vs_states=vs_states,
                 vs_state_names=tuple(json.loads(f["vs_states"].attrs["names"])),
                 mode=str(f.attrs["mode"]),
                 loop_time=float(f.attrs["loop_time_s"]),

@@ -1,0 +1,75 @@
+"""A run file's records are checked when read (issue 18, finding 10): shapes, and a checksum written with them."""
+
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pytest
+
+from impedance_mil.errors import DataFileError
+from impedance_mil.lab import load_run, save_run, simulate
+from impedance_mil.lab.results import data_digest
+from impedance_mil.plant.nonlinear import NonlinearTable
+
+from .conftest import report_parameters
+
+T = 0.0005
+
+
+@pytest.fixture(scope="module")
+def run():
+    table = NonlinearTable.from_linear(report_parameters())
+    return simulate(table, command=0.2 * np.sin(2 * np.pi * 2.0 * np.arange(4000) * T))
+
+
+@pytest.fixture
+def saved(run, tmp_path):
+    return save_run(run, tmp_path / "run.h5")
+
+
+def test_a_written_file_reads_back_and_carries_its_checksum(run, saved):
+    back = load_run(saved)
+    assert back.channels.keys() == run.channels.keys()
+    with h5py.File(saved) as f:
+        assert f.attrs["data_sha256"] == data_digest(run.channels, run.vs_states)
+
+
+def test_a_changed_sample_is_refused(saved):
+    # One sample rewritten in place: the file is valid HDF5 and decompresses, only the checksum sees it.
+    with h5py.File(saved, "r+") as f:
+        f["channels"]["x"][100] += 1e-9
+    with pytest.raises(DataFileError, match="data_sha256: the records do not match"):
+        load_run(saved)
+
+
+def test_zeroed_tail_is_refused(saved):
+    # The audit's case: the last 20 kB of the file zeroed.
+    data = bytearray(saved.read_bytes())
+    data[-20_000:] = bytes(20_000)
+    saved.write_bytes(bytes(data))
+    with pytest.raises(DataFileError, match=str(saved.name)):
+        load_run(saved)
+
+
+def test_records_of_unequal_length_are_refused(saved):
+    with h5py.File(saved, "r+") as f:
+        x = np.asarray(f["channels"]["x"])
+        del f["channels"]["x"]
+        f["channels"].create_dataset("x", data=x[:-10])
+        del f.attrs["data_sha256"]  # as a file written before checksums
+    with pytest.raises(DataFileError, match="x: records of unequal length"):
+        load_run(saved)
+
+
+def test_a_file_written_before_checksums_still_reads(run, saved):
+    with h5py.File(saved, "r+") as f:
+        del f.attrs["data_sha256"]
+    np.testing.assert_array_equal(load_run(saved).channels["x"], run.channels["x"])
+
+
+def test_imil_report_refuses_a_damaged_file_in_one_line(imil, saved, tmp_path):
+    with h5py.File(saved, "r+") as f:
+        f["channels"]["u_v"][0] = 7.0
+    r = imil("report", saved, "-o", tmp_path / "page.html")
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and "data_sha256" in r.stderr
+    assert not (tmp_path / "page.html").exists()
