@@ -49,6 +49,8 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # Help texts hold units in brackets ([in], [lbf], [g]): Rich markup would eat them.
+    rich_markup_mode=None,
 )
 app.add_typer(table.app, name="table")
 app.add_typer(vs.app, name="vs")
