@@ -196,6 +196,8 @@ def design_multisine(
     for key, value in (("n_points", n_points), ("n_periods", n_periods), ("n_lines", n_lines)):
         if isinstance(value, bool) or int(value) != value:
             raise ConfigError(f"multisine.{key}", "a whole number", value)
+    if n_lines < 1:  # no line: an all-zero signal, refused later without naming the key
+        raise ConfigError("multisine.n_lines", "at least 1 line", n_lines)
     check_count(
         "multisine.n_periods", n_points * n_periods, MAX_RECORD_SAMPLES, "samples (n_points x n_periods)"
     )

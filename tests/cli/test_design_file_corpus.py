@@ -17,10 +17,6 @@ import json
 
 import pytest
 
-from impedance_mil.design import design_controller, save_design, table_model, virtual_model
-from impedance_mil.plant import TableParameters
-from impedance_mil.virtual import presets
-
 #: Replacements tried for every field: wrong types, degenerate and hostile numbers.
 WRONG_VALUES = {
     "null": None,
@@ -76,17 +72,9 @@ VALID = {
 }
 
 
-@pytest.fixture(scope="module")
-def document(tmp_path_factory):
-    design = design_controller(
-        table_model(TableParameters.report_default()),
-        virtual_model(presets.get("SD2")),
-        form="standardized",
-        fc_hz=80.0,
-        emit_warnings=False,
-    )
-    path = save_design(design, tmp_path_factory.mktemp("corpus") / "d.json")
-    return json.loads(path.read_text())
+@pytest.fixture
+def document(sd2_design_document):
+    return sd2_design_document
 
 
 def _fields(doc) -> list[tuple[str, tuple]]:
