@@ -57,6 +57,8 @@ def _csv_columns(path: Path) -> dict[str, np.ndarray]:
     if len(set(names)) != len(names) or not all(names):
         raise DataFileError(path, f"line {start + 1}: expected a header of distinct column names")
     body = "\n".join(ln for ln in lines[start + 1 :] if ln.strip() and not ln.lstrip().startswith("#"))
+    if not body:  # before numpy, which would warn "input contained no data" (a second stderr line)
+        raise DataFileError(path, "no data rows after the header")
     try:
         data = np.loadtxt(io.StringIO(body), delimiter=delimiter, ndmin=2, dtype=float)
     except ValueError:
