@@ -14,6 +14,7 @@ import time
 from impedance_mil.design import design_controller, table_model, virtual_model
 from impedance_mil.design.optimized import OptimizationSettings, design_optimized
 from impedance_mil.plant import TableParameters
+from impedance_mil.report_config import report_config
 from impedance_mil.virtual.files import resolve
 
 CASES = (("LR2", None), ("FP2", None), ("SD2", 0.7), ("SD2", 0.3))
@@ -21,6 +22,7 @@ CASES = (("LR2", None), ("FP2", None), ("SD2", 0.7), ("SD2", 0.3))
 
 def main(per_decade: int = 2000) -> None:
     p = TableParameters.report_default()
+    fc_hz = report_config().design.fc_hz  # the report's cut-off
     tm = table_model(p)
     settings = OptimizationSettings(check_per_decade=per_decade)
     print(f"dense check grid: {per_decade} points/decade")
@@ -32,10 +34,10 @@ def main(per_decade: int = 2000) -> None:
         if vm.equivalent is not None:
             robust = {f"DF {a:g} in": virtual_model(spec.vs, name, amplitude_in=a) for a in (0.25, 4.0)}
         t0 = time.perf_counter()
-        design_controller(tm, vm, fc_hz=80.0, emit_warnings=False)
+        design_controller(tm, vm, fc_hz=fc_hz, emit_warnings=False)
         t_filter = time.perf_counter() - t0
         t0 = time.perf_counter()
-        d = design_optimized(p, vm, robust_vs=robust, settings=settings)
+        d = design_optimized(p, vm, fc_hz=fc_hz, robust_vs=robust, settings=settings)
         t_opt = time.perf_counter() - t0
         o = d.optimization
         label = name + ("" if ratio is None else f"@{ratio:g}")

@@ -230,8 +230,8 @@ def design_optimized(
     params: TableParameters,
     vs: VirtualModel,
     *,
+    fc_hz: float,
     robust_vs: Mapping[str, VirtualModel] | None = None,
-    fc_hz: float = 80.0,
     basis: PoleBasis | None = None,
     criteria: DesignCriteria | None = None,
     settings: OptimizationSettings | None = None,
@@ -250,7 +250,8 @@ def design_optimized(
         Further VS models on which II and III must hold too (e.g. the
         describing functions at other amplitudes, identified models).
     fc_hz : float
-        Cut-off [Hz] of the reference filter design (Section 6.4), whose
+        Cut-off [Hz] of the reference filter design (Section 6.4; the report's
+        is ``report_config().design.fc_hz``, no default here), whose
         Butterworth poles the default basis contains, so that the optimum is
         never worse than it when it is feasible.
     basis : PoleBasis, optional

@@ -65,7 +65,7 @@ DEFINITION = VSDefinition(
         "mu_min": 0.06,
         "a": 2.54,
         "u_y": 0.04,
-        "w_ps": 3600.0,
+        "w_ps": 3600.0,  # the point where expressions are checked finite; never a run's article weight
     },
 )
 

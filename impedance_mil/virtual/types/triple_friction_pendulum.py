@@ -162,7 +162,7 @@ DEFINITION = VSDefinition(
         "d2": 3.94,
         "d4": 7.87,
         "u_y": 0.04,
-        "w_ps": 3600.0,
+        "w_ps": 3600.0,  # the point where expressions are checked finite; never a run's article weight
     },
 )
 

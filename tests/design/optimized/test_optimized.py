@@ -33,6 +33,7 @@ from impedance_mil.design.optimized.exchange import log_points
 from impedance_mil.errors import ConfigError, MissingDependencyError
 from impedance_mil.implement.discretize import discretize
 from impedance_mil.plant import LinearTable, TableParameters
+from impedance_mil.report_config import report_config
 from impedance_mil.units import TWO_PI
 from impedance_mil.virtual.files import resolve
 
@@ -40,6 +41,7 @@ pytest.importorskip("cvxpy")
 
 COARSE = OptimizationSettings(check_per_decade=100)
 PARAMS = TableParameters.report_default()
+FC_HZ = report_config().design.fc_hz  # the report's 80 Hz (data/report/config.toml)
 runner = CliRunner()
 
 
@@ -53,10 +55,10 @@ def designs():
     out = {}
     spec, vm = _vs("LR2")
     robust = {"DF 4 in": virtual_model(spec.vs, "LR2", amplitude_in=4.0)}
-    out["LR2"] = (vm, design_optimized(PARAMS, vm, robust_vs=robust, settings=COARSE))
+    out["LR2"] = (vm, design_optimized(PARAMS, vm, fc_hz=FC_HZ, robust_vs=robust, settings=COARSE))
     for key, name, ratio in (("FP2", "FP2", None), ("SD2@0.7", "SD2", 0.7)):
         _, vm = _vs(name, ratio)
-        out[key] = (vm, design_optimized(PARAMS, vm, settings=COARSE))
+        out[key] = (vm, design_optimized(PARAMS, vm, fc_hz=FC_HZ, settings=COARSE))
     return out
 
 
@@ -92,7 +94,9 @@ def test_filter_design_lies_in_the_default_span_and_renders_without_roots():
 def test_margin_band_above_nyquist_and_negative_margin_refused():
     _, vm = _vs("SD2")
     with pytest.raises(ConfigError, match="Nyquist"):
-        design_optimized(PARAMS, vm, settings=OptimizationSettings(passivity_band_hz=(0.01, 1500.0)))
+        design_optimized(
+            PARAMS, vm, fc_hz=FC_HZ, settings=OptimizationSettings(passivity_band_hz=(0.01, 1500.0))
+        )
     with pytest.raises(ConfigError, match="margin"):
         OptimizationSettings(margin_deg=-1.0)
 
@@ -165,7 +169,7 @@ def test_realization_through_the_implementation_step(designs):
 
 def test_sd2_at_0_3_mst_is_infeasible_with_the_best_trade_off():
     _, vm = _vs("SD2", 0.3)
-    d = design_optimized(PARAMS, vm, settings=COARSE)
+    d = design_optimized(PARAMS, vm, fc_hz=FC_HZ, settings=COARSE)
     opt = d.optimization
     assert opt["feasible"] is False and opt["binding"] == "III"
     assert opt["best_tradeoff"]["passivity_deficit"] > 0.1  # measured 0.39
