@@ -32,7 +32,7 @@ from ..virtual import presets
 from ..virtual.files import resolve
 from .common import console, print_json, table_parameters
 from .recording import AllowClippedOpt, ChannelOpt, ChannelsFileOpt, RateOpt, channel_map
-from .runopts import output_path, percent
+from .runopts import metric_lines, output_path
 
 _REPORT = report_config()
 
@@ -49,15 +49,8 @@ def _print(doc: dict) -> None:
         say(
             f"  clipped (accepted): channel {clip['channel']} at {clip['limit']:.6g}, {clip['n_samples']} samples"
         )
-    if doc["spectral_error_0p25_15hz"] is None:
-        say("  no metrics (the recording is shorter than 1 s)")
-    else:
-        say(
-            f"  spectral error (5% PSA, table vs target): 0.25-15 Hz {percent(doc['spectral_error_0p25_15hz'])}, "
-            f"15-50 Hz {percent(doc['spectral_error_15_50hz'])}"
-        )
-        energy = "" if doc["energy_error"] is None else f", energy error {percent(doc['energy_error'])}"
-        say(f"  NRMS error {percent(doc['nrms_error'])}, peak error {percent(doc['peak_error'])}{energy}")
+    for line in metric_lines(doc, "the recording is shorter than 1 s"):
+        say(line)
     if doc.get("comparison"):
         say(f"prediction {doc['prediction']} against the measurement (measured - predicted):")
         for key, row in doc["comparison"].items():

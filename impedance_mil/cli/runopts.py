@@ -163,6 +163,19 @@ def percent(value: float | None) -> str:
     return "n/a" if value is None else f"{100.0 * value:.2f} %"
 
 
+def metric_lines(doc: dict, why_none: str) -> list[str]:
+    """The run metrics of a summary ``doc`` for the terminal (shared by simulate and evaluate);
+    ``why_none`` says why there are none when the record was shorter than 1 s."""
+    if doc["spectral_error_0p25_15hz"] is None:
+        return [f"  no metrics ({why_none})"]
+    energy = "" if doc["energy_error"] is None else f", energy error {percent(doc['energy_error'])}"
+    return [
+        f"  spectral error (5% PSA, table vs target): 0.25-15 Hz {percent(doc['spectral_error_0p25_15hz'])}, "
+        f"15-50 Hz {percent(doc['spectral_error_15_50hz'])}",
+        f"  NRMS error {percent(doc['nrms_error'])}, peak error {percent(doc['peak_error'])}{energy}",
+    ]
+
+
 #: Progress and warnings go to stderr, so that stdout stays machine-readable.
 err_console = Console(stderr=True, highlight=False, soft_wrap=True)
 

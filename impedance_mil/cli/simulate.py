@@ -54,8 +54,8 @@ from .runopts import (
     activity,
     design_lines,
     err_console,
+    metric_lines,
     output_path,
-    percent,
     refuse_or_warn,
     report_defaults_line,
 )
@@ -217,15 +217,8 @@ def print_outcome(outcome: Outcome) -> None:
         say(
             f"completed: {doc['simulated_s']:.2f} s simulated (designed and run in {outcome.elapsed_s:.1f} s)"
         )
-    if doc["spectral_error_0p25_15hz"] is None:
-        say("  no metrics (the run stopped before 1 s)")
-    else:
-        say(
-            f"  spectral error (5% PSA, table vs target): 0.25-15 Hz {percent(doc['spectral_error_0p25_15hz'])}, "
-            f"15-50 Hz {percent(doc['spectral_error_15_50hz'])}"
-        )
-        energy = "" if doc["energy_error"] is None else f", energy error {percent(doc['energy_error'])}"
-        say(f"  NRMS error {percent(doc['nrms_error'])}, peak error {percent(doc['peak_error'])}{energy}")
+    for line in metric_lines(doc, "the run stopped before 1 s"):
+        say(line)
     if doc["peak_table_accel_g"] is not None:
         say(
             f"  peak table acceleration {doc['peak_table_accel_g']:.3f} g (target "
