@@ -38,7 +38,18 @@ from .errors import ConfigError
 REPORT_CONFIG_PATH = Path(__file__).resolve().parent / "data" / "report" / "config.toml"
 
 #: Sections of the file, in order.
-SECTIONS = ("table", "limits", "controller", "specimen", "design", "motion", "motions", "vs", "frf")
+SECTIONS = (
+    "table",
+    "limits",
+    "sensors",
+    "controller",
+    "specimen",
+    "design",
+    "motion",
+    "motions",
+    "vs",
+    "frf",
+)
 
 #: Values of ``[controller] substeps`` other than a positive integer.
 SUBSTEP_POLICIES = ("auto",)

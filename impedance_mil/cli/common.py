@@ -9,11 +9,13 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import typer
 from rich.console import Console
 
 from ..config import parse_overrides
 from ..errors import ConfigError
 from ..fileio import json_safe
+from ..lab.labfile import load_lab
 from ..plant import TableParameters, default_table_path
 
 #: Console for human-readable output (stdout).
@@ -39,9 +41,22 @@ def option_errors(options: Mapping[str, str]) -> Iterator[None]:
         raise ConfigError(options[exc.key], exc.expected, exc.got) from None
 
 
-def table_parameters(table: Path | None, sets: list[str] | None = None) -> TableParameters:
-    """``--table`` (default the report's Table 4.1) with ``--set`` overrides (errors name the key or file)."""
+def table_parameters(
+    table: Path | None, sets: list[str] | None = None, lab: str | None = None
+) -> TableParameters:
+    """``--table`` or the table of ``--lab`` (default the report's Table 4.1) with ``--set`` overrides.
+
+    Errors name the key or file; a lab's controller loop time and valve command apply to its table.
+    """
+    if lab is not None:
+        return load_lab(lab, table=table, overrides=parse_overrides(sets)).table
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
+
+
+#: The ``--lab`` option of every command that takes a table.
+LabOpt = typer.Option(
+    None, "--lab", help="Lab file (TOML: table, limits, sensors, controller, specimen) or 'report'."
+)
 
 
 def positive_numbers(

@@ -34,7 +34,7 @@ from ..report.motion_plots import save_figure
 from ..report_config import report_config
 from ..specimens import FluidVessel
 from ..virtual.files import VSSpec, resolve
-from .common import console, option_errors, positive_numbers, print_json, table_parameters
+from .common import LabOpt, console, option_errors, positive_numbers, print_json, table_parameters
 
 _DESIGN = report_config().design
 _BAND_TEXT = ",".join(f"{f:g}" for f in DesignCriteria().band_hz)
@@ -78,6 +78,7 @@ def _parse_list(option: str, text: str | None, count: int | None = None) -> list
 
 def design(
     table: Path | None = typer.Option(None, "--table", help="Table file (TOML); default the report's table."),
+    lab: str | None = LabOpt,
     vs: str | None = typer.Option(None, "--vs", help="VS preset (SD1..FP3) or VS file (TOML)."),
     sets: list[str] | None = typer.Option(None, "--set", help="Table value KEY=VALUE."),
     sets_vs: list[str] | None = typer.Option(None, "--set-vs", help="VS value KEY=VALUE."),
@@ -174,7 +175,7 @@ def design(
     with option_errors(CRITERIA_OPTIONS):
         criteria = DesignCriteria(**{k: v for k, v in criteria_given.items() if v is not None})
     ratios = _parse_list("--mass-ratios", mass_ratios)
-    params = table_parameters(table, sets)
+    params = table_parameters(table, sets, lab)
     tm = table_model(params)
     spec = None
     if vs is not None and form != "tracking":

@@ -30,10 +30,10 @@ from ..implement.export import FORMATS, controller_from_design, designed_vs, ren
 from ..implement.safety import command_limits
 from ..report_config import report_config
 from ..virtual.files import resolve
-from .common import console, table_parameters
+from .common import LabOpt, console, table_parameters
 
 
-def _design(design_file, table, vs, fc):
+def _design(design_file, table, vs, fc, lab=None):
     if design_file is not None:
         if table is not None or fc is not None:
             raise ConfigError("--table/--fc", "either a design file or --table/--fc, not both")
@@ -42,7 +42,9 @@ def _design(design_file, table, vs, fc):
         raise ConfigError("DESIGN", "a design file, or --fc [Hz] (with --table, --vs) to design one")
     spec = resolve(vs) if vs else None
     vm = virtual_model(spec.vs, spec.name) if spec is not None else None
-    return design_controller(table_model(table_parameters(table)), vm, fc_hz=fc, emit_warnings=False)
+    return design_controller(
+        table_model(table_parameters(table, None, lab)), vm, fc_hz=fc, emit_warnings=False
+    )
 
 
 #: Keys of the errors that are about an option, not about the design's content.
@@ -74,6 +76,7 @@ def export(
     prefix: str = typer.Option("imil", "--prefix", help="Identifier prefix of the generated code."),
     output: Path = typer.Option(..., "-o", "--output", help="Output directory (created)."),
     table: Path | None = typer.Option(None, "--table", help="Table file (TOML) to design from."),
+    lab: str | None = LabOpt,
     vs: str | None = typer.Option(None, "--vs", help="VS preset or file (MIL step)."),
     fc: float | None = typer.Option(None, "--fc", help="Cut-off [Hz] when designing here."),
     loop_time: float | None = typer.Option(None, "--loop-time", help="Check: loop time [s]."),
@@ -93,7 +96,7 @@ def export(
     """Export a discretized MIL controller as C, IEC 61131-3 ST, JSON or CSV."""
     if fmt not in FORMATS:
         raise ConfigError("--format", "one of " + ", ".join(FORMATS), fmt)
-    design = _design(design_file, table, vs, fc)
+    design = _design(design_file, table, vs, fc, lab)
     spec = resolve(vs) if vs is not None else None
     precision = report_config().controller.precision if precision is None else precision
     with _naming(design_file):

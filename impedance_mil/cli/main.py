@@ -26,6 +26,7 @@ from . import (
     evaluate,
     export,
     identify,
+    labcmd,
     motion,
     recording,
     report_cmd,
@@ -67,6 +68,7 @@ app.add_typer(drive.app, name="drive")
 app.command("identify")(identify.identify)
 app.command("evaluate")(evaluate.evaluate)
 app.add_typer(recording.app, name="recording")
+app.add_typer(labcmd.app, name="lab")
 
 #: Exit status for bad input (configuration, data files, usage).
 EXIT_BAD_INPUT = 2

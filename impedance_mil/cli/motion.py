@@ -16,12 +16,15 @@ Exit status: 0 on success; ``check`` exits 1 when the motion exceeds a limit
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import typer
 
+from ..config import parse_overrides
 from ..errors import ConfigError
+from ..lab.labfile import load_lab
 from ..lab.pretest import check_dict
 from ..report.motion_plots import check_figure_path, plot_histories, plot_spectra, save_figure
 from ..signals import (
@@ -36,7 +39,7 @@ from ..signals import (
 )
 from ..signals.sources import motion_summary, scaled_motion
 from ..units import G0
-from .common import console, positive_numbers, print_json, table_parameters
+from .common import LabOpt, console, positive_numbers, print_json, table_parameters
 
 app = typer.Typer(
     help="Ground motions: info, response spectrum, table feasibility check.", no_args_is_help=True
@@ -155,10 +158,23 @@ def spectrum(
 
 
 def _limits(
-    table: Path | None, overrides: list[str] | None, specimen_weight: float, force_limit: float | None
+    table: Path | None,
+    overrides: list[str] | None,
+    specimen_weight: float,
+    force_limit: float | None,
+    lab: str | None = None,
 ) -> TableLimits:
-    return TableLimits.from_table(
-        table_parameters(table, overrides), specimen_weight=specimen_weight, force_limit=force_limit
+    """The table's capacities; with ``--lab``, its stroke and velocity interlocks where they are tighter."""
+    limits = TableLimits.from_table(
+        table_parameters(table, overrides, lab), specimen_weight=specimen_weight, force_limit=force_limit
+    )
+    if lab is None:
+        return limits
+    interlocks = load_lab(lab, table=table, overrides=parse_overrides(overrides)).limits
+    return replace(
+        limits,
+        stroke_in=min(limits.stroke_in, interlocks.stroke),
+        velocity_in_s=min(limits.velocity_in_s, interlocks.velocity),
     )
 
 
@@ -166,6 +182,7 @@ def _limits(
 def check(
     source: str = typer.Argument(..., help=SOURCE_HELP),
     table: Path | None = typer.Option(None, "--table", help="Table file (TOML); default report Table 4.1."),
+    lab: str | None = LabOpt,
     overrides: list[str] | None = typer.Option(None, "--set", help="Override a table key: KEY=VALUE."),
     specimen_weight: float = typer.Option(0.0, "--specimen-weight", help="Test-article weight [lbf]."),
     force_limit: float | None = typer.Option(
@@ -177,7 +194,7 @@ def check(
     as_json: bool = typer.Option(False, "--json", help="Print JSON."),
 ) -> None:
     """Check stroke, velocity, force and valve flow before a test; exit 1 if a limit is exceeded."""
-    limits = _limits(table, overrides, specimen_weight, force_limit)
+    limits = _limits(table, overrides, specimen_weight, force_limit, lab)
     motion = load_motion(source, units, time_scale, pga)
     result = check_motion(motion, limits)
     applied = time_scale if time_scale is not None else 1.0

@@ -60,6 +60,7 @@ EXIT_INTERRUPTED = 130
 #: The option of each run choice (lab.choices.Choices), for the library's error messages.
 CHOICE_OPTIONS = {
     "table": "--table",
+    "lab": "--lab",
     "specimen": "--specimen",
     "water_depth": "--water-depth",
     "specimen_weight": "--specimen-weight",

@@ -64,7 +64,16 @@ _REPORT = report_config()
 _GM = _REPORT.default_motion
 _KP_TEXT = ",".join(f"{kp:g}" for kp in _REPORT.frf.kp_values)
 
-TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default the report's Table 4.1.")
+TableOpt = typer.Option(
+    None,
+    "--table",
+    help="Table file (TOML with units): a lab with only a table (generic defaults for the rest).",
+)
+LabOpt = typer.Option(
+    None,
+    "--lab",
+    help="Lab file (TOML: table, limits, sensors, controller, specimen) or 'report' (the default).",
+)
 SetOpt = typer.Option(None, "--set", help="Table value KEY=VALUE (repeatable), e.g. Kp=0.0006.")
 SpecimenOpt = typer.Option(
     None, "--specimen", help=SPECIMEN_HELP + f" Default the report's: {_REPORT.specimen.kind}."
@@ -263,12 +272,19 @@ def run_command(
         print_json(outcome.document)
     else:
         print_outcome(outcome)
-    if outcome.document["aborted"]:
+    if outcome.document["sensor_clipping_fails"]:
+        err_console.print(
+            f"imil: error: a sensor clipped and the lab's [sensors] clipping is 'fail' "
+            f"({outcome.document['sensor_clipping'][0]['channel']}); the data are kept",
+            markup=False,
+        )
+    if outcome.document["aborted"] or outcome.document["sensor_clipping_fails"]:
         raise typer.Exit(EXIT_ABORTED)
 
 
 def simulate(
     table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
     specimen: str | None = SpecimenOpt,
     water_depth: str | None = WaterOpt,
     specimen_weight: str | None = WeightOpt,
@@ -307,6 +323,7 @@ def simulate(
         choices(
             vs=vs,
             table=table,
+            lab=lab,
             sets=sets,
             specimen=specimen,
             water_depth=water_depth,
@@ -328,6 +345,7 @@ def simulate(
 
 def track(
     table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
     specimen: str | None = SpecimenOpt,
     water_depth: str | None = WaterOpt,
     specimen_weight: str | None = WeightOpt,
@@ -357,6 +375,7 @@ def track(
     test = tracking_test(
         choices(
             table=table,
+            lab=lab,
             sets=sets,
             specimen=specimen,
             water_depth=water_depth,
@@ -427,6 +446,7 @@ def print_frf(doc: dict, path: Path) -> None:
 
 def frf(
     table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
     specimen: str | None = typer.Option(
         None, "--specimen", help=SPECIMEN_HELP + " Default none: identification needs the bare table."
     ),
@@ -466,6 +486,7 @@ def frf(
     test = frf_test(
         choices(
             table=table,
+            lab=lab,
             sets=sets,
             specimen=specimen,
             water_depth=water_depth,

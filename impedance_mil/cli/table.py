@@ -15,7 +15,7 @@ from ..plant import LinearTable
 from ..plant.tuning import pole_summary, tuning_summary
 from ..report import table_plots
 from ..report.motion_plots import check_figure_path
-from .common import console, print_json, table_parameters
+from .common import LabOpt, console, print_json, table_parameters
 
 app = typer.Typer(
     help="Shake-table model: parameters, poles, transfer functions, tuning.", no_args_is_help=True
@@ -42,9 +42,14 @@ def _wrote(path: Path, as_json: bool) -> None:
 
 
 @app.command()
-def info(table: Path | None = TableOpt, set: list[str] | None = SetOpt, json: bool = JsonOpt) -> None:
+def info(
+    table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
+    set: list[str] | None = SetOpt,
+    json: bool = JsonOpt,
+) -> None:
     """Parameters (internal units) and derived quantities."""
-    p = table_parameters(table, set)
+    p = table_parameters(table, set, lab)
     data = {
         "parameters": p.to_dict(),
         "derived": {
@@ -64,13 +69,14 @@ def info(table: Path | None = TableOpt, set: list[str] | None = SetOpt, json: bo
 @app.command()
 def poles(
     table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
     set: list[str] | None = SetOpt,
     json: bool = JsonOpt,
     delay: str = DelayOpt,
     pade_order: int = PadeOpt,
 ) -> None:
     """Closed-loop poles: frequency [Hz], damping [-], real/imag [rad/s]; reports instability."""
-    stable, rows = pole_summary(table_parameters(table, set), delay, pade_order)
+    stable, rows = pole_summary(table_parameters(table, set, lab), delay, pade_order)
     if json:
         print_json({"poles": rows, "stable": stable, "delay": delay})
         return
@@ -86,6 +92,7 @@ def poles(
 @app.command()
 def tf(
     table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
     set: list[str] | None = SetOpt,
     json: bool = JsonOpt,
     delay: str = DelayOpt,
@@ -97,7 +104,7 @@ def tf(
 
     With ``--delay sampled`` the discrete function in z is printed (with ``dt``).
     """
-    p = table_parameters(table, set)
+    p = table_parameters(table, set, lab)
     tbl = LinearTable(p, delay=delay, pade_order=pade_order)
     H = tbl.sampled().tf(output, input) if delay == "sampled" else tbl.tf(output, input)
     data = H.to_dict()
@@ -113,6 +120,7 @@ def tf(
 @app.command()
 def bode(
     table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
     set: list[str] | None = SetOpt,
     json: bool = JsonOpt,
     delay: str = DelayOpt,
@@ -121,7 +129,7 @@ def bode(
     fmax: float = typer.Option(200.0, "--fmax", help="Highest frequency [Hz]."),
 ) -> None:
     """Bode plots of the six transfer functions (PNG)."""
-    p = table_parameters(table, set)
+    p = table_parameters(table, set, lab)
     check_figure_path(out, "-o")
     _wrote(table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax), json)
 
@@ -129,6 +137,7 @@ def bode(
 @app.command()
 def rlocus(
     table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
     set: list[str] | None = SetOpt,
     json: bool = JsonOpt,
     param: str = typer.Option("Ke", "--param", help="Ke, Kp or loop_time."),
@@ -136,14 +145,19 @@ def rlocus(
     out: Path = typer.Option(Path("table-rlocus.png"), "-o", "--out", help="PNG file."),
 ) -> None:
     """Root locus of the five poles for a K_e, K_p or loop-time sweep (PNG)."""
-    p = table_parameters(table, set)
+    p = table_parameters(table, set, lab)
     _wrote(table_plots.save_root_locus(p, param, out, upper=upper), json)
 
 
 @app.command()
-def tune(table: Path | None = TableOpt, set: list[str] | None = SetOpt, json: bool = JsonOpt) -> None:
+def tune(
+    table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
+    set: list[str] | None = SetOpt,
+    json: bool = JsonOpt,
+) -> None:
     """Stability limits, break-away points and the K_p maximizing oil-column damping."""
-    data = tuning_summary(table_parameters(table, set))
+    data = tuning_summary(table_parameters(table, set, lab))
     if json:
         print_json(data)
         return

@@ -18,7 +18,7 @@ CLI).
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -40,6 +40,7 @@ from .descriptions import (
     TrackingTest,
 )
 from .feedback import Feedback
+from .labfile import LabSetup, load_lab
 from .setup import SafetyLimits
 
 #: Names of the specimens a user may choose (or a specimen file).
@@ -53,7 +54,9 @@ class Choices:
     Attributes
     ----------
     table : Path or None
-        Table file.
+        Table file (a lab with only a table: the rest takes generic defaults).
+    lab : str or None
+        Lab file or ``report`` (:func:`impedance_mil.lab.labfile.load_lab`).
     table_overrides : mapping
         ``--set`` values of the table (with units or in the report's unit).
     specimen : str or None
@@ -85,6 +88,7 @@ class Choices:
     """
 
     table: Path | None = None
+    lab: str | None = None
     table_overrides: Mapping[str, Any] = field(default_factory=dict)
     specimen: str | None = None
     water_depth: Any = None
@@ -233,12 +237,61 @@ def report_lab(cfg: ReportConfig, seed: int, used: dict, key: str = "seed") -> L
         raise ConfigError(key, exc.expected, exc.got) from None
 
 
+def lab_choice(setup: LabSetup, seed: int, used: dict, key: str = "seed") -> LabChoice:
+    """The interlocks, sensors and substeps of a lab file; its generic defaults listed in ``used``."""
+    for name in setup.defaults:
+        used[f"lab.{name}"] = "generic default"
+    try:
+        return LabChoice(
+            setup.limits,
+            setup.sensors.suite,
+            setup.controller.substeps,
+            seed,
+            setup.sensors.clipping,
+            setup.name,
+        )
+    except ConfigError as exc:
+        raise ConfigError(key, exc.expected, exc.got) from None
+
+
+def with_lab_defaults(choices: Choices, setup: LabSetup) -> Choices:
+    """``choices`` with the lab's specimen, feedback and precision where the user chose none."""
+    spec = setup.specimen
+    chosen: dict[str, Any] = {}
+    if choices.specimen is None:
+        chosen["specimen"] = spec.kind
+        if spec.kind == "vessel" and choices.water_depth is None:
+            chosen["water_depth"] = spec.water_depth
+        if spec.kind == "rigid" and choices.specimen_weight is None:
+            chosen["specimen_weight"] = spec.article_weight
+    if choices.feedback is None:
+        chosen["feedback"] = setup.controller.feedback
+    if choices.precision is None:
+        chosen["precision"] = setup.controller.precision
+    return replace(choices, **chosen)
+
+
+def uses_lab_file(choices: Choices) -> bool:
+    """Whether the run names a lab or a table (else it is the report's setup, read from ``cfg``)."""
+    return choices.lab is not None or choices.table is not None
+
+
 def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any]:
     used: dict[str, Any] = {}
+    if uses_lab_file(choices):
+        setup = load_lab(choices.lab, table=choices.table, overrides=choices.table_overrides)
+        if choices.lab is not None and setup.is_report:
+            used["lab"] = setup.name
+        choices = with_lab_defaults(choices, setup)
+        table = setup.table
+        lab = lab_choice(setup, choices.seed, used, choices.key("seed"))
+    else:
+        table = choose_table(None, choices.table_overrides, cfg, used)
+        lab = report_lab(cfg, choices.seed, used, choices.key("seed"))
     parts = dict(
-        table=choose_table(choices.table, choices.table_overrides, cfg, used),
+        table=table,
         controller=choose_controller(choices, cfg, used, allow_none=not mil),
-        lab=report_lab(cfg, choices.seed, used, choices.key("seed")),
+        lab=lab,
         specimen=choose_specimen(choices, cfg, used),
         motion=choose_motion(choices, cfg, used),
         from_report=used,
@@ -274,7 +327,12 @@ def frf_test(
     """
     cfg = cfg or report_config()
     used: dict[str, Any] = {}
-    table = choose_table(choices.table, choices.table_overrides, cfg, used)
+    setup = None
+    if uses_lab_file(choices):
+        setup = load_lab(choices.lab, table=choices.table, overrides=choices.table_overrides)
+        table = setup.table
+    else:
+        table = choose_table(None, choices.table_overrides, cfg, used)
     specimen = choose_specimen(choices, cfg, used, default_kind="none")
     peak_in = quantity(
         choices.key("peak"), _pick(peak, cfg.frf.peak_in, "frf.peak", used), "inch", "positive"
@@ -289,7 +347,10 @@ def frf_test(
                 f"{choices.key('specimen')} none (the identification is of the bare table, Section 4.5.3)",
                 choices.specimen,
             )
-    lab = report_lab(cfg, choices.seed, used, choices.key("seed"))
+    if setup is None:
+        lab = report_lab(cfg, choices.seed, used, choices.key("seed"))
+    else:
+        lab = lab_choice(setup, choices.seed, used, choices.key("seed"))
     try:
         return FrfTest(table, specimen, peak_in, delay, kps, lab, used)
     except ConfigError as exc:

@@ -38,6 +38,7 @@ from ..signals import GroundMotion
 from ..signals.multisine import report_multisine
 from ..specimens import FluidVessel
 from ..virtual.files import VSSpec
+from .clipping import clipped_channels
 from .experiments import (
     ControlledRun,
     FrfExperiment,
@@ -51,7 +52,7 @@ from .experiments import (
 from .feedback import Feedback
 from .pretest import Pretest, pretest
 from .runfile import FRF_GROUP, MODEL_LOOP, model_loop, run_summary, trip_summary, trip_text
-from .setup import SafetyLimits
+from .setup import SafetyLimits, default_sensors
 
 #: Controller arithmetic of the runtime.
 PRECISIONS = ("single", "double")
@@ -183,12 +184,15 @@ def design_violations(design: ControllerDesign, required: tuple[str, ...]) -> li
 
 @dataclass(frozen=True)
 class LabChoice:
-    """The virtual lab of a run: interlocks, sensors (None: the lab's Table 7.1 suite), plant substeps, seed."""
+    """The virtual lab of a run: interlocks, sensors (None: the lab's Table 7.1 suite), plant substeps, seed,
+    what a clipped channel does (``clipping``: warn or fail) and the lab's name."""
 
     limits: SafetyLimits
     sensors: Any
     substeps: int | str
     seed: int
+    clipping: str = "warn"
+    name: str = "report"
 
     def __post_init__(self):
         if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
@@ -318,7 +322,11 @@ class TrackingTest:
         doc = {**self.describe(), **run_summary(result.run, result.metrics)}
         if pre is not None:
             doc["pretest"] = pre.to_dict()
-        doc["warnings"] = list(warnings)
+        clipped = clipped_channels(self.lab.sensors or default_sensors(), result.run.channels)
+        doc["lab"] = self.lab.name
+        doc["sensor_clipping"] = [c.to_dict() for c in clipped]
+        doc["sensor_clipping_fails"] = bool(clipped) and self.lab.clipping == "fail"
+        doc["warnings"] = list(warnings) + [c.sentence for c in clipped]
         doc["design"] = {
             "form": design.form,
             "fc_hz": design.fc_hz,

@@ -134,6 +134,10 @@ def check_limits(pa, limits, y, m, held):
         return TripCause.STROKE, m.x
     if abs(y[IX_V]) > limits.velocity:
         return TripCause.VELOCITY, y[IX_V]
+    if abs(m.z) > limits.acceleration:
+        return TripCause.ACCELERATION, m.z
+    if abs(m.dp) > limits.pressure:
+        return TripCause.PRESSURE, m.dp
     force = pa[PA_AREA] * m.dp
     if abs(force) > limits.actuator_force:
         return TripCause.ACTUATOR_FORCE, force

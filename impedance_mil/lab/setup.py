@@ -8,6 +8,7 @@ channel (about 3 LSB), is an assumption of this tool.
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -135,6 +136,12 @@ class SafetyLimits:
     interlock_window : float
         Averaging time [s] of ``valve_duty``, ``valve_current`` and
         ``command_slew`` (exponential weighting, time constant).  Default 0.25 s.
+    acceleration : float, optional
+        Measured table acceleration limit [in/s**2]; default none (the report's
+        controller had none).
+    pressure : float, optional
+        Measured differential-pressure limit |dP| [psi]; default none (the
+        actuator-force interlock, A_p |dP|, stands for it).
     """
 
     stroke: float = 3.0
@@ -146,6 +153,8 @@ class SafetyLimits:
     valve_current: float | None = None
     command_slew: float | None = None
     interlock_window: float = 0.25
+    acceleration: float | None = None
+    pressure: float | None = None
 
     def __post_init__(self):
         for key in ("stroke", "velocity", "valve_saturation_time", "divergence", "interlock_window"):
@@ -156,7 +165,12 @@ class SafetyLimits:
             raise ConfigError("limits.actuator_force", "a positive force [lbf]", self.actuator_force)
         if not (np.isfinite(self.valve_duty) and 0 < self.valve_duty <= 1):
             raise ConfigError("limits.valve_duty", "a fraction in (0, 1]", self.valve_duty)
-        for key, unit in (("valve_current", "current [mA]"), ("command_slew", "rate [V/s]")):
+        for key, unit in (
+            ("valve_current", "current [mA]"),
+            ("command_slew", "rate [V/s]"),
+            ("acceleration", "acceleration [in/s**2]"),
+            ("pressure", "pressure [psi]"),
+        ):
             value = getattr(self, key)
             if value is not None and not (np.isfinite(value) and value > 0):
                 raise ConfigError(f"limits.{key}", f"a positive {unit}", value)
@@ -191,6 +205,8 @@ class SafetyLimits:
             valve_current=float(current),
             command_slew=float(slew),
             interlock_window=float(self.interlock_window),
+            acceleration=math.inf if self.acceleration is None else float(self.acceleration),
+            pressure=math.inf if self.pressure is None else float(self.pressure),
         )
 
     def to_dict(self) -> dict:

@@ -151,7 +151,9 @@ class LimitValues(NamedTuple):
     ``stroke`` [in], ``velocity`` [in/s], ``actuator_force`` [lbf],
     ``valve_saturation_time`` [s], ``divergence`` [in], ``valve_duty`` [-],
     ``valve_current`` [mA rms], ``command_slew`` [V/s rms] and their averaging
-    time ``interlock_window`` [s] (see :class:`~impedance_mil.lab.setup.SafetyLimits`).
+    time ``interlock_window`` [s], measured table ``acceleration`` [in/s^2] and
+    measured differential ``pressure`` [psi] (inf: no such interlock; see
+    :class:`~impedance_mil.lab.setup.SafetyLimits`).
     """
 
     stroke: float
@@ -163,6 +165,8 @@ class LimitValues(NamedTuple):
     valve_current: float
     command_slew: float
     interlock_window: float
+    acceleration: float
+    pressure: float
 
 
 #: What the virtual plant carries from one stage, or loop, to the next (a one-element

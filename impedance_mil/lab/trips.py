@@ -12,7 +12,7 @@ message).
 The names are those run files have always carried (``"stroke"``,
 ``"velocity"``, ``"actuator_force"``, ``"valve_saturation"``, ``"nan"``,
 ``"divergence"``; since issue 18 also ``"valve_duty"``, ``"valve_current"`` and
-``"command_oscillation"``, see :class:`~impedance_mil.lab.setup.SafetyLimits`): :attr:`TripCause.label` is the member's name in lower
+``"command_oscillation"``; since issue 12 ``"acceleration"`` and ``"pressure"``, see :class:`~impedance_mil.lab.setup.SafetyLimits`): :attr:`TripCause.label` is the member's name in lower
 case, so a new cause is one line of the enumeration (its code and the unit of
 the value it reports), plus the check that raises it.
 """
@@ -47,6 +47,8 @@ class TripCause(IntEnum):
     VALVE_DUTY = 7, ""
     VALVE_CURRENT = 8, "mA"
     COMMAND_OSCILLATION = 9, "V/s"
+    ACCELERATION = 10, "in/s**2"
+    PRESSURE = 11, "psi"
 
     unit: str
 

@@ -339,15 +339,7 @@ class TableParameters:
         ConfigError
             A key is unknown, missing or invalid (the message names it).
         """
-        merged = dict(table_mapping(read_toml(path), path))
-        for key, value in dict(overrides or {}).items():
-            for alt, (replaced, _) in ALTERNATIVES.items():
-                if key == alt:
-                    merged.pop(replaced, None)
-                elif key == replaced:
-                    merged.pop(alt, None)
-            merged[key] = value
-        return cls.from_mapping(merged)
+        return cls.from_mapping(merge_overrides(table_mapping(read_toml(path), path), overrides or {}))
 
     # -------------------------------------------------------------- utilities
     def replace(self, **changes: Any) -> TableParameters:
@@ -405,6 +397,20 @@ def _report_ratings(mapping: Mapping[str, Any]) -> dict[str, Any]:
         return {}
     report = table_mapping(read_toml(default_table_path()), default_table_path())
     return {key: report[key] for key in missing if key in report}
+
+
+def merge_overrides(mapping: Mapping[str, Any], overrides: Mapping[str, Any]) -> dict[str, Any]:
+    """``mapping`` with ``overrides`` winning; an override of a physical alternative
+    (``bulk_modulus``) replaces the key it stands for (``f_oil_hz``), and vice versa."""
+    merged = dict(mapping)
+    for key, value in dict(overrides).items():
+        for alt, (replaced, _) in ALTERNATIVES.items():
+            if key == alt:
+                merged.pop(replaced, None)
+            elif key == replaced:
+                merged.pop(alt, None)
+        merged[key] = value
+    return merged
 
 
 def table_mapping(data: Mapping[str, Any], path: str | Path) -> Mapping[str, Any]:

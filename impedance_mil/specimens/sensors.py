@@ -86,6 +86,10 @@ class Sensor:
         White measurement noise [V rms], >= 0.
     saturation_v : float
         Conditioner output limit [V], > 0 (10).
+    adc_bits : int
+        Resolution of the analog input [bits] (16, Section 7.2.2).
+    adc_range_v : float
+        Full scale of the analog input, +- [V] (10).
     """
 
     name: str
@@ -96,6 +100,8 @@ class Sensor:
     gain: float = 1.0
     noise_rms_v: float = 0.0
     saturation_v: float = ADC_RANGE_V
+    adc_bits: int = ADC_BITS
+    adc_range_v: float = ADC_RANGE_V
 
     def __post_init__(self):
         if self.quantity not in QUANTITIES:
@@ -106,25 +112,35 @@ class Sensor:
             raise ConfigError(f"{self.name}.noise_rms_v", "a noise level >= 0 [V rms]", self.noise_rms_v)
         if not (math.isfinite(self.saturation_v) and self.saturation_v > 0):
             raise ConfigError(f"{self.name}.saturation_v", "a positive limit [V]", self.saturation_v)
+        if not (isinstance(self.adc_bits, int) and 2 <= self.adc_bits <= 32):
+            raise ConfigError(f"{self.name}.adc_bits", "a whole number of bits from 2 to 32", self.adc_bits)
+        if not (math.isfinite(self.adc_range_v) and self.adc_range_v > 0):
+            raise ConfigError(f"{self.name}.adc_range_v", "a positive input range [V]", self.adc_range_v)
         if not (math.isfinite(self.offset) and math.isfinite(self.gain)):
             raise ConfigError(f"{self.name}.offset", "finite offset and gain")
 
     @property
     def lsb_v(self) -> float:
-        """Quantization step [V]: 20 V / 2**16."""
-        return 2.0 * ADC_RANGE_V / 2**ADC_BITS
+        """Quantization step [V]: the input range over the codes (20 V / 2**16 for the report's)."""
+        return 2.0 * self.adc_range_v / 2**self.adc_bits
 
     @property
     def volts_range(self) -> tuple[float, float]:
         """Lowest and highest reading [V]: saturation, then the converter's codes."""
         lsb = self.lsb_v
-        top = min(math.floor(self.saturation_v / lsb), 2 ** (ADC_BITS - 1) - 1)
-        bottom = max(-math.floor(self.saturation_v / lsb), -(2 ** (ADC_BITS - 1)))
+        top = min(math.floor(self.saturation_v / lsb), 2 ** (self.adc_bits - 1) - 1)
+        bottom = max(-math.floor(self.saturation_v / lsb), -(2 ** (self.adc_bits - 1)))
         return bottom * lsb, top * lsb
 
     def to_volts(self, value):
         """Ideal output [V] for a physical value (no noise, no limits)."""
         return (np.asarray(value, dtype=float) - self.offset) / self.scale
+
+    @property
+    def value_range(self) -> tuple[float, float]:
+        """Lowest and highest value the channel can read [unit], whatever the sign of ``scale``."""
+        a, b = (self.to_physical(v) for v in self.volts_range)
+        return float(min(a, b)), float(max(a, b))
 
     def to_physical(self, volts):
         """Physical value for a reading [V] (Table 7.1 calibration)."""

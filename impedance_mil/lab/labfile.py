@@ -1,0 +1,435 @@
+"""A lab file: one laboratory setup (table, interlocks, sensors, controller, default article).
+
+Sections (TOML, every value with a unit or in the report's unit)::
+
+    [table]        file = "my_table.toml" (relative to the lab file), and/or table keys inline
+    [limits]       stroke, velocity, acceleration, actuator_force, pressure, valve_command,
+                   valve_current, valve_duty, valve_saturation_time, command_slew,
+                   interlock_window, divergence
+    [sensors]      clipping = "warn" | "fail", and [sensors.NAME] channels (lab.labsensors)
+    [controller]   loop_time, output_delay (samples), precision, feedback, substeps,
+                   adc_bits, adc_range, dac_range
+    [specimen]     kind (vessel, rigid, none or a specimen file), water_depth, article_weight
+
+``--lab report`` (the default) is the report's setup: the lab sections of
+``data/report/config.toml``.  A bare table file (``--table``) is a lab with
+only a ``[table]``: every other value is a documented generic default
+(:data:`GENERIC_DEFAULTS`), never the report's, and :attr:`LabSetup.defaults`
+lists them so that a run says which.  :func:`load_lab` validates everything
+and names the section and key of the first problem.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..config import Field, parse_fields, quantity, read_toml
+from ..errors import ConfigError
+from ..plant import TableParameters
+from ..plant.nonlinear import NonlinearTable
+from ..plant.parameters import merge_overrides, table_mapping
+from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
+from .labsensors import Converter, SensorSetup, sensor_setup
+from .setup import SafetyLimits
+
+#: Name of the shipped lab of the report (its sections live in data/report/config.toml).
+REPORT_LAB = "report"
+
+#: Sections of a lab file.
+LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen")
+
+#: Sections of the report's setup file that are not the lab's (read by report_config).
+_EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf")
+
+#: Interlock keys of ``[limits]`` (internal unit, check); None-valued keys of SafetyLimits stay None.
+LIMIT_FIELDS = {
+    "stroke": Field("inch", default=0.0, help="measured displacement limit"),
+    "velocity": Field("inch / second", default=0.0, help="table velocity limit"),
+    "acceleration": Field("inch / second ** 2", default=0.0, help="measured acceleration limit"),
+    "actuator_force": Field("force_pound", default=0.0, help="A_p |dP| limit"),
+    "pressure": Field("psi", default=0.0, help="measured |dP| limit"),
+    "valve_command": Field("volt", default=0.0, help="valve command clamp"),
+    "valve_current": Field("milliampere", default=0.0, help="rms valve current limit"),
+    "valve_duty": Field("dimensionless", default=0.0, help="saturated fraction of the window"),
+    "valve_saturation_time": Field("second", default=0.0, help="longest continuous saturation"),
+    "command_slew": Field("volt / second", default=0.0, help="rms slew of the valve command"),
+    "interlock_window": Field("second", default=0.0, help="averaging time of the valve interlocks"),
+    "divergence": Field("inch", default=0.0, help="displacement declared divergent"),
+}
+
+#: Keys of ``[controller]`` read as quantities.
+CONTROLLER_FIELDS = {
+    "loop_time": Field("second", default=0.0, help="controller loop time"),
+    "adc_bits": Field("dimensionless", default=0.0, integer=True, help="analog-input resolution"),
+    "adc_range": Field("volt", default=0.0, help="+- analog-input range"),
+    "dac_range": Field("volt", default=0.0, help="+- analog-output range"),
+}
+_CONTROLLER_TEXT = ("precision", "feedback", "substeps", "output_delay")
+
+#: Specimen keys.
+_SPECIMEN_KEYS = ("kind", "water_depth", "article_weight")
+
+#: The generic value of each key a lab file leaves out (documented in docs/your-lab.md).
+GENERIC_DEFAULTS = {
+    "limits.stroke": "the table's mid-stroke",
+    "limits.velocity": "the valve's no-load velocity at the supply pressure",
+    "limits.divergence": "the larger of 20 in and 4 strokes",
+    "limits.valve_command": "the table's valve_command_limit",
+    "limits.(others)": "as impedance_mil.lab.setup.SafetyLimits documents (none for acceleration, pressure)",
+    "sensors": "one channel per quantity sized from the table (lab.labsensors.generic_sensors)",
+    "controller.loop_time": "the table's loop_time",
+    "controller.output_delay": "1 loop",
+    "controller.precision": "single",
+    "controller.feedback": "lc",
+    "controller.substeps": "auto",
+    "controller.adc_bits": "16",
+    "controller.adc_range": "10 V",
+    "controller.dac_range": "the valve command",
+    "specimen.kind": "none (the bare table)",
+}
+
+#: Precision and feedback names the controller accepts.
+PRECISIONS = ("single", "double")
+FEEDBACKS = ("lc", "fe", "none")
+
+
+@dataclass(frozen=True)
+class ControllerSetup:
+    """Loop time [s], output delay [loops], precision, feedback, substeps, converters."""
+
+    loop_time: float
+    output_delay: int
+    precision: str
+    feedback: str
+    substeps: int | str
+    adc: Converter
+    dac_range_v: float
+
+
+@dataclass(frozen=True)
+class SpecimenSetup:
+    """Default article: ``kind`` (vessel, rigid, none or a file), water depth [in], weight [lbf]."""
+
+    kind: str
+    water_depth: Any = None
+    article_weight: Any = None
+
+
+@dataclass(frozen=True)
+class LabSetup:
+    """One laboratory setup, validated; internal units.
+
+    Attributes
+    ----------
+    name : str
+        ``report`` or the file's name.
+    path : Path
+        The file read.
+    table : TableParameters
+        The table (its loop time and valve command limit as the lab sets them).
+    limits : SafetyLimits
+        The interlocks.
+    sensors : SensorSetup
+        The channels and the clipping policy.
+    controller : ControllerSetup
+    specimen : SpecimenSetup
+    sources : mapping of str to str
+        Where each value came from: ``file``, ``default`` or ``--set``.
+    """
+
+    name: str
+    path: Path
+    table: TableParameters
+    limits: SafetyLimits
+    sensors: SensorSetup
+    controller: ControllerSetup
+    specimen: SpecimenSetup
+    sources: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def defaults(self) -> tuple[str, ...]:
+        """Keys that took a generic default (what a run says it assumed)."""
+        return tuple(k for k, v in self.sources.items() if v == "default")
+
+    @property
+    def is_report(self) -> bool:
+        return self.name == REPORT_LAB
+
+    def to_dict(self) -> dict[str, Any]:
+        """The effective setup with the source of each value (``imil lab show --json``)."""
+        limits = self.limits.kernel_values(NonlinearTable.from_linear(self.table))._asdict()
+        return {
+            "lab": self.name,
+            "file": str(self.path),
+            "table": self.table.to_dict(),
+            "limits": {k: (None if math.isinf(v) else v) for k, v in limits.items()}
+            | {"valve_command": self.table.valve_command_limit},
+            "sensors": {
+                "clipping": self.sensors.clipping,
+                "channels": [
+                    {
+                        "name": s.name,
+                        "quantity": s.quantity,
+                        "unit": s.unit,
+                        "range": list(s.value_range),
+                        "resolution": abs(s.scale) * s.lsb_v,
+                        "noise_rms": abs(s.scale) * s.noise_rms_v,
+                        "share": s.gain,
+                    }
+                    for s in self.sensors.suite.sensors
+                ],
+            },
+            "controller": {
+                "loop_time": self.controller.loop_time,
+                "output_delay": self.controller.output_delay,
+                "precision": self.controller.precision,
+                "feedback": self.controller.feedback,
+                "substeps": self.controller.substeps,
+                "adc_bits": self.controller.adc.bits,
+                "adc_range": self.controller.adc.range_v,
+                "dac_range": self.controller.dac_range_v,
+            },
+            "specimen": {
+                "kind": self.specimen.kind,
+                "water_depth": self.specimen.water_depth,
+                "article_weight": self.specimen.article_weight,
+            },
+            "sources": dict(self.sources),
+            "units": LAB_UNITS,
+        }
+
+
+#: Unit of every numeric value of :meth:`LabSetup.to_dict` (internal units).
+LAB_UNITS = {
+    "limits.stroke": "in",
+    "limits.velocity": "in/s",
+    "limits.acceleration": "in/s**2",
+    "limits.actuator_force": "lbf",
+    "limits.pressure": "psi",
+    "limits.valve_command": "V",
+    "limits.valve_current": "mA",
+    "limits.valve_duty": "",
+    "limits.valve_saturation_time": "s",
+    "limits.command_slew": "V/s",
+    "limits.interlock_window": "s",
+    "limits.divergence": "in",
+    "sensors.channels.range": "unit of the channel",
+    "controller.loop_time": "s",
+    "controller.output_delay": "loops",
+    "controller.adc_range": "V",
+    "controller.dac_range": "V",
+    "specimen.water_depth": "in",
+    "specimen.article_weight": "lbf",
+    "table": "see imil table info",
+}
+
+
+def lab_path(name: str | Path) -> Path:
+    """The file of ``--lab NAME|FILE`` (``report``: the report's setup file)."""
+    if str(name) == REPORT_LAB:
+        return REPORT_CONFIG_PATH
+    path = Path(name)
+    if not path.is_file():
+        raise ConfigError("--lab", f"{REPORT_LAB} or a lab file (TOML)", str(name))
+    return path
+
+
+def load_lab(
+    name: str | Path | None = None,
+    *,
+    table: Path | None = None,
+    overrides: Mapping[str, Any] | None = None,
+) -> LabSetup:
+    """Read and validate a lab (``name``: ``report``, the default, or a file), or a bare ``table`` file.
+
+    ``overrides`` are ``--set`` values of the table.  Nothing of the report is
+    taken for a lab that is not the report's: missing keys take
+    :data:`GENERIC_DEFAULTS`.
+
+    Raises
+    ------
+    ConfigError
+        Naming the section and key (``mylab.toml: limits.stroke: ...``).
+    DataFileError
+        A file is missing or not TOML.
+    """
+    if name is not None and table is not None:
+        raise ConfigError("--lab", "either --lab or --table (a table file is a lab with only a table)")
+    if table is not None:
+        path, data, label = Path(table), {"table": {"file": str(table)}}, Path(table).name
+        base = Path.cwd()
+        read_toml(path)  # a missing or broken file is named now
+    else:
+        path = lab_path(name or REPORT_LAB)
+        label = REPORT_LAB if path == REPORT_CONFIG_PATH else path.name
+        raw = read_toml(path)
+        data = {k: v for k, v in raw.items() if k not in _EXPERIMENT_SECTIONS or path != REPORT_CONFIG_PATH}
+        base = path.parent
+    where = f"{label}: "
+    unknown = sorted(set(data) - set(LAB_SECTIONS))
+    if unknown:
+        raise ConfigError(f"{where}[{unknown[0]}]", "one of the sections " + ", ".join(LAB_SECTIONS))
+    sources: dict[str, str] = {}
+    params = _table(data.get("table"), base, overrides or {}, where, sources)
+    controller = _controller(data.get("controller"), params, where, sources)
+    params = params.replace(loop_time=controller.loop_time)
+    limits, command = _limits(data.get("limits"), params, controller, where, sources)
+    params = params.replace(valve_command_limit=command)
+    sensors = sensor_setup(data.get("sensors"), params, controller.adc, where)
+    sources["sensors"] = sensors.source
+    specimen = _specimen(data.get("specimen"), base, where, sources)
+    return LabSetup(label, path, params, limits, sensors, controller, specimen, sources)
+
+
+def _mapping(section: Any, name: str, where: str) -> Mapping[str, Any]:
+    if section is None:
+        return {}
+    if not isinstance(section, Mapping):
+        raise ConfigError(f"{where}{name}", "a TOML table", section)
+    return section
+
+
+def _table(
+    section: Any, base: Path, overrides: Mapping[str, Any], where: str, sources: dict
+) -> TableParameters:
+    table = dict(_mapping(section, "table", where))
+    if not table:
+        raise ConfigError(f"{where}table", 'a [table] section (file = "TABLE.toml" or the table keys)')
+    keys: dict[str, Any] = {}
+    if "file" in table:
+        file = base / str(table.pop("file"))
+        keys.update(table_mapping(read_toml(file), file))
+        sources["table"] = f"file {file.name}"
+    else:
+        sources["table"] = "file"
+    keys.update(table)
+    for key in overrides:
+        sources[f"table.{key}"] = "--set"
+    return TableParameters.from_mapping(merge_overrides(keys, overrides), where=f"{where}table.")
+
+
+def _given(section: Mapping[str, Any], fields: Mapping[str, Field], where: str) -> dict[str, float]:
+    """The keys of ``section`` that ``fields`` knows, converted (unknown keys refused)."""
+    parsed = parse_fields(fields, section, where=where)
+    return {k: v for k, v in parsed.items() if k in section}
+
+
+def _controller(section: Any, table: TableParameters, where: str, sources: dict) -> ControllerSetup:
+    raw = dict(_mapping(section, "controller", where))
+    text = {k: raw.pop(k) for k in _CONTROLLER_TEXT if k in raw}
+    given = _given(raw, CONTROLLER_FIELDS, f"{where}controller.")
+    for key in CONTROLLER_FIELDS | dict.fromkeys(_CONTROLLER_TEXT):
+        sources[f"controller.{key}"] = "file" if key in given or key in text else "default"
+    loop = given.get("loop_time", table.loop_time)
+    loops = _output_delay(text.get("output_delay", 1), loop, f"{where}controller.output_delay")
+    precision = text.get("precision", "single")
+    if precision not in PRECISIONS:
+        raise ConfigError(f"{where}controller.precision", " or ".join(PRECISIONS), precision)
+    feedback = text.get("feedback", "lc")
+    if feedback not in FEEDBACKS:
+        raise ConfigError(f"{where}controller.feedback", " or ".join(FEEDBACKS), feedback)
+    substeps = text.get("substeps", SUBSTEP_POLICIES[0])
+    if substeps not in SUBSTEP_POLICIES and not (
+        isinstance(substeps, int) and not isinstance(substeps, bool) and substeps > 0
+    ):
+        raise ConfigError(f"{where}controller.substeps", "a positive integer or auto", substeps)
+    bits = int(given.get("adc_bits", 16))
+    if not 2 <= bits <= 32:
+        raise ConfigError(f"{where}controller.adc_bits", "a whole number of bits from 2 to 32", bits)
+    adc = Converter(bits, given.get("adc_range", 10.0))
+    dac = given.get("dac_range", table.valve_command_limit)
+    return ControllerSetup(loop, round(loops), precision, feedback, substeps, adc, dac)
+
+
+def _output_delay(value: Any, loop: float, key: str) -> int:
+    """The output delay in loops: a whole number, or a time that is a whole number of ``loop`` [s]."""
+    if isinstance(value, str) and any(c.isalpha() for c in value):
+        loops = quantity(key, value, "second", "positive") / loop
+    else:
+        loops = quantity(key, value, "dimensionless", "positive")
+    if abs(loops - round(loops)) > 1e-9 or round(loops) < 1:
+        raise ConfigError(key, f"a whole number of loops of {loop * 1e6:g} us (at least 1)", value)
+    if round(loops) != 1:
+        raise ConfigError(
+            key,
+            "1 loop (the virtual lab models the one-loop command delay of the report's controller)",
+            value,
+        )
+    return 1
+
+
+def _limits(
+    section: Any, table: TableParameters, controller: ControllerSetup, where: str, sources: dict
+) -> tuple[SafetyLimits, float]:
+    given = _given(_mapping(section, "limits", where), LIMIT_FIELDS, f"{where}limits.")
+    for key in LIMIT_FIELDS:
+        sources[f"limits.{key}"] = "file" if key in given else "default"
+    for key, value in given.items():
+        if not value > 0:
+            raise ConfigError(f"{where}limits.{key}", "a positive value", value)
+    stroke = given.pop("stroke", table.mid_stroke)
+    if stroke > table.mid_stroke:
+        raise ConfigError(
+            f"{where}limits.stroke",
+            f"at most the table's mid-stroke ({table.mid_stroke:g} in)",
+            f"{stroke:g} in",
+        )
+    dp = table.supply_pressure - table.return_pressure
+    no_load = table.rated_flow * math.sqrt(dp / table.rated_pressure_drop) / table.piston_area
+    velocity = given.pop("velocity", no_load)
+    command = given.pop("valve_command", table.valve_command_limit)
+    if command > controller.dac_range_v:
+        raise ConfigError(
+            f"{where}limits.valve_command",
+            f"at most the controller's dac_range ({controller.dac_range_v:g} V)",
+            f"{command:g} V",
+        )
+    divergence = given.pop("divergence", max(20.0, 4.0 * stroke))
+    if divergence <= stroke:
+        raise ConfigError(f"{where}limits.divergence", f"more than the stroke ({stroke:g} in)", divergence)
+    if "valve_duty" in given and given["valve_duty"] > 1:
+        raise ConfigError(f"{where}limits.valve_duty", "a fraction in (0, 1]", given["valve_duty"])
+    try:
+        limits = SafetyLimits(stroke=stroke, velocity=velocity, divergence=divergence, **given)
+    except ConfigError as exc:
+        raise ConfigError(f"{where}{exc.key}", exc.expected, exc.got) from None
+    return limits, command
+
+
+def _specimen(section: Any, base: Path, where: str, sources: dict) -> SpecimenSetup:
+    spec = dict(_mapping(section, "specimen", where))
+    unknown = sorted(set(spec) - set(_SPECIMEN_KEYS))
+    if unknown:
+        raise ConfigError(f"{where}specimen.{unknown[0]}", "one of the keys " + ", ".join(_SPECIMEN_KEYS))
+    for key in _SPECIMEN_KEYS:
+        sources[f"specimen.{key}"] = "file" if key in spec else "default"
+    kind = spec.get("kind", "none")
+    if not isinstance(kind, str) or not kind.strip():
+        raise ConfigError(f"{where}specimen.kind", "vessel, rigid, none or a specimen file", kind)
+    if kind not in ("vessel", "rigid", "none"):
+        file = base / kind
+        if not file.is_file():
+            raise ConfigError(f"{where}specimen.kind", "vessel, rigid, none or a specimen file", kind)
+        kind = str(file)
+    depth = spec.get("water_depth")
+    weight = spec.get("article_weight")
+    if depth is not None:
+        quantity(f"{where}specimen.water_depth", depth, "inch", "nonnegative")
+    if weight is not None:
+        weight = article_weight(weight, f"{where}specimen.article_weight")
+    return SpecimenSetup(kind, depth, weight)
+
+
+def article_weight(value: Any, key: str) -> float:
+    """A weight [lbf], given as a force or as a mass (its weight under standard gravity: 1 lb -> 1 lbf)."""
+    try:
+        return quantity(key, value, "force_pound", "positive")
+    except ConfigError:
+        try:
+            return quantity(key, value, "pound", "positive")
+        except ConfigError:
+            raise ConfigError(key, "a weight (a force, or a mass such as '2000 kg')", value) from None

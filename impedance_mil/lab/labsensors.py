@@ -1,0 +1,191 @@
+"""The ``[sensors]`` section of a lab file: the channels the virtual controller reads.
+
+A lab file describes each channel in physical terms (``[sensors.NAME]``)::
+
+    [sensors]
+    clipping = "warn"            # or "fail": what a channel driven beyond its range does
+    [sensors.accel]
+    quantity = "acceleration"    # acceleration, displacement, differential_pressure, load_cell
+    range = "4 g0"               # +- full scale, mapped onto the converter's +- input range
+    bits = 16                    # converter resolution (or resolution = "0.1 mm")
+    noise = "0.002 g0"           # rms, white
+
+or, for a calibrated channel as in report Table 7.1, ``scale`` [unit/V] and
+``offset`` [unit] instead of ``range``.  A load cell carries ``share`` of the
+interface force w with its mounting sign (four cells of a table: ``0.25``
+each).  ``preset = "table-7.1"`` stands for the report's channels (the
+accelerometer, string potentiometer, dP cell and four reaction load cells of
+Table 7.1, exactly as :func:`impedance_mil.lab.setup.default_sensors`).
+
+Without a ``[sensors]`` section, :func:`generic_sensors` sizes one channel
+per quantity from the table (documented in ``docs/your-lab.md``): the
+displacement over 1.25 mid-strokes, the pressure over 1.25 (P_S - P_R), the
+acceleration over twice the stall force over the moving mass and the load
+cell over twice the stall force, each read by the controller's converter
+with :data:`~impedance_mil.lab.setup.DEFAULT_NOISE_V` of noise.
+
+A ``bandwidth`` (anti-alias filter) is refused: the virtual lab does not model
+it yet (issue 17).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from ..config import quantity
+from ..errors import ConfigError
+from ..plant import TableParameters
+from ..specimens.sensors import Sensor, SensorSuite
+from .setup import DEFAULT_NOISE_V, default_sensors
+
+#: What a clipped channel does: ``warn`` (the run goes on, the summary records it) or ``fail``.
+CLIPPING_POLICIES = ("warn", "fail")
+
+#: Quantity names of a lab file -> (quantity of the sensing kernel, internal unit).
+QUANTITY_NAMES = {
+    "acceleration": ("table_acceleration", "inch / second ** 2"),
+    "displacement": ("table_displacement", "inch"),
+    "differential_pressure": ("differential_pressure", "psi"),
+    "load_cell": ("interface_force", "force_pound"),
+}
+
+#: Named channel sets a lab file may give as ``preset``.
+PRESETS = ("table-7.1",)
+
+_CHANNEL_KEYS = ("quantity", "range", "scale", "offset", "bits", "resolution", "noise", "share", "bandwidth")
+
+
+@dataclass(frozen=True)
+class SensorSetup:
+    """The channels of a lab and what a clipped channel does (``clipping``: warn or fail)."""
+
+    suite: SensorSuite
+    clipping: str
+    source: str
+
+
+@dataclass(frozen=True)
+class Converter:
+    """The controller's analog inputs: ``bits`` and the +- ``range_v`` [V]."""
+
+    bits: int
+    range_v: float
+
+
+def generic_sensors(table: TableParameters, adc: Converter) -> SensorSuite:
+    """One channel per loop quantity, sized from ``table`` (see the module docstring)."""
+    stall = table.piston_area * (table.supply_pressure - table.return_pressure)
+    ranges = {
+        "acceleration": 2.0 * stall / table.mass,
+        "displacement": 1.25 * table.mid_stroke,
+        "differential_pressure": 1.25 * (table.supply_pressure - table.return_pressure),
+        "load_cell": 2.0 * stall,
+    }
+    return SensorSuite(
+        tuple(
+            _sensor(name, name, full / adc.range_v, 0.0, 1.0, DEFAULT_NOISE_V, adc.bits, adc)
+            for name, full in ranges.items()
+        )
+    )
+
+
+def sensor_setup(section: Any, table: TableParameters, adc: Converter, where: str) -> SensorSetup:
+    """The :class:`SensorSetup` of a ``[sensors]`` section (None: :func:`generic_sensors`)."""
+    if section is None:
+        return SensorSetup(generic_sensors(table, adc), "warn", "default")
+    if not isinstance(section, Mapping):
+        raise ConfigError(f"{where}sensors", "a table of [sensors.NAME] channels")
+    clipping = section.get("clipping", "warn")
+    if clipping not in CLIPPING_POLICIES:
+        raise ConfigError(f"{where}sensors.clipping", " or ".join(CLIPPING_POLICIES), clipping)
+    channels = {k: v for k, v in section.items() if k not in ("clipping", "preset")}
+    preset = section.get("preset")
+    if preset is not None:
+        if preset not in PRESETS:
+            raise ConfigError(f"{where}sensors.preset", " or ".join(PRESETS), preset)
+        if channels:
+            raise ConfigError(f"{where}sensors.{next(iter(channels))}", "no channels beside a preset")
+        return SensorSetup(default_sensors(), clipping, "file")
+    if not channels:
+        raise ConfigError(f"{where}sensors", "a preset or at least one [sensors.NAME] channel")
+    sensors = []
+    for name, entry in channels.items():
+        if not isinstance(entry, Mapping):
+            raise ConfigError(f"{where}sensors.{name}", "a table with " + ", ".join(_CHANNEL_KEYS), entry)
+        sensors.append(_channel(name, entry, adc, f"{where}sensors.{name}."))
+    return SensorSetup(SensorSuite(tuple(sensors)), clipping, "file")
+
+
+def _channel(name: str, entry: Mapping[str, Any], adc: Converter, key: str) -> Sensor:
+    unknown = sorted(set(entry) - set(_CHANNEL_KEYS))
+    if unknown:
+        raise ConfigError(f"{key}{unknown[0]}", "one of the keys " + ", ".join(_CHANNEL_KEYS))
+    if "bandwidth" in entry:
+        raise ConfigError(
+            f"{key}bandwidth", "no anti-alias bandwidth (the virtual lab does not model the filter yet)"
+        )
+    kind = entry.get("quantity")
+    if kind not in QUANTITY_NAMES:
+        raise ConfigError(f"{key}quantity", "one of " + ", ".join(QUANTITY_NAMES), kind)
+    unit = QUANTITY_NAMES[kind][1]
+    if ("range" in entry) == ("scale" in entry):
+        raise ConfigError(f"{key}range", "either range (+- full scale) or scale and offset (calibration)")
+    if "range" in entry:
+        if "offset" in entry:
+            raise ConfigError(f"{key}offset", "no offset with range (range is +- about zero)")
+        scale = quantity(f"{key}range", entry["range"], unit, "positive") / adc.range_v
+        offset = 0.0
+    else:
+        scale = quantity(f"{key}scale", entry["scale"], f"({unit}) / volt", "any")
+        offset = quantity(f"{key}offset", entry.get("offset", 0.0), unit, "any")
+    if "bits" in entry and "resolution" in entry:
+        raise ConfigError(f"{key}resolution", "either bits or resolution")
+    bits = adc.bits
+    if "bits" in entry:
+        bits = int(quantity(f"{key}bits", entry["bits"], "dimensionless", "positive", integer=True))
+    range_v = adc.range_v
+    if "resolution" in entry:
+        step = quantity(f"{key}resolution", entry["resolution"], unit, "positive")
+        full = abs(scale) * adc.range_v
+        if step >= full:
+            raise ConfigError(f"{key}resolution", f"a step smaller than the range ({full:.6g} {unit})", step)
+        # A physical step: the converter's codes over its range, rounded up to whole bits.
+        bits = _bits_for(2.0 * full / step)
+    noise = DEFAULT_NOISE_V
+    if "noise" in entry:
+        noise = quantity(f"{key}noise", entry["noise"], unit, "nonnegative") / abs(scale)
+    share = quantity(f"{key}share", entry.get("share", 1.0), "dimensionless", "any")
+    if share == 0:
+        raise ConfigError(f"{key}share", "a nonzero share of the force (with its sign)", share)
+    return _sensor(name, kind, scale, offset, share, noise, bits, Converter(bits, range_v))
+
+
+def _bits_for(codes: float) -> int:
+    """Fewest bits whose codes cover ``codes`` steps."""
+    bits = 2
+    while 2**bits < codes:
+        bits += 1
+    return bits
+
+
+def _sensor(
+    name: str, kind: str, scale: float, offset: float, share: float, noise_v: float, bits: int, adc: Converter
+) -> Sensor:
+    quantity_name, unit = QUANTITY_NAMES[kind]
+    try:
+        return Sensor(
+            name,
+            quantity_name,
+            unit,
+            scale,
+            offset,
+            gain=share,
+            noise_rms_v=noise_v,
+            saturation_v=adc.range_v,
+            adc_bits=bits,
+            adc_range_v=adc.range_v,
+        )
+    except ConfigError as exc:
+        raise ConfigError(f"sensors.{exc.key}", exc.expected, exc.got) from None
