@@ -201,7 +201,7 @@ def _trip_from_record(path: Path, record: Mapping[str, Any]) -> Trip:
     return Trip(cause, float(record["time_s"]), math.nan if value is None else float(value))
 
 
-def attr_json(path: Path, attrs: Mapping[str, Any], key: str) -> Any:
+def attr_json(path: str | Path, attrs: Mapping[str, Any], key: str) -> Any:
     """The JSON text of HDF5 attribute ``key``, parsed with the caps of :func:`impedance_mil.fileio.parse_json`.
 
     Raises
