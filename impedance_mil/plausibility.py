@@ -139,8 +139,9 @@ VS_BOUNDS: dict[str, Bound] = {
         None,
         None,
         None,
-        1e10,
-        "a stiffness: report k_s 113-1754, k_i up to 3513 lbf/in; 1e10 is a rigid link",
+        1e13,
+        "a stiffness: report k_s 113-1754, k_i up to 3513 lbf/in; a steel bar 1 ft^2 by 1 in is 4e9, "
+        "tests model rigid storeys with 1e10",
     ),
     "force_pound*second/inch": Bound(
         "lbf*s/in", None, None, None, 1e9, "a damping: report c 0.11-64 lbf*s/in; 1e9 is a rigid link"
