@@ -33,6 +33,10 @@ MAX_SPECTRUM_PERIODS = 10_000
 #: Most oscillator steps (periods x samples) of one response spectrum: about 10 s at 5 ns a step.
 MAX_SPECTRUM_STEPS = 2_000_000_000
 
+#: Most points per decade of a frequency grid of the optimized design (its default dense check grid: 2000).
+#: The grid spans about five decades (0.01 Hz to the Nyquist frequency), so 1e5 a decade is 5e5 points.
+MAX_GRID_PER_DECADE = 100_000
+
 #: Most clipping iterations of a minimum-crest-factor multisine (report: 100).
 MAX_MULTISINE_ITERATIONS = 10_000
 

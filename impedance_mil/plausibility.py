@@ -15,6 +15,10 @@ Two kinds of bound per key, both in internal units (:mod:`impedance_mil.units`):
   unit slip (100 times the report's value or more).  A
   :class:`PlausibilityWarning` names the key; the work goes on.
 
+Virtual systems (:data:`VS_BOUNDS`) are bounded by the dimension of each
+parameter, so a user's own type is bounded too, with error bounds only;
+specimens by their weight (:data:`SPECIMEN_BOUNDS`).
+
 Cross-key rules of a table: the return pressure is below the supply
 pressure; the loop time is shorter than half the oil-column period (the
 controller must sample the mode it damps, f_oil below the Nyquist
@@ -114,6 +118,79 @@ TABLE_BOUNDS: dict[str, Bound] = {
     ),
     "rated_current": Bound("mA", 1e-3, 1.0, 500.0, 1e5, "report 25 mA; servovalves take 10-200 mA"),
     "valve_command_limit": Bound("V", 1e-3, 1.0, 100.0, 1e4, "report 10 V; analog commands are 10 V"),
+}
+
+
+#: Bounds of the virtual-system parameters, by internal unit (the dimension of the
+#: parameter, so a user's own type is bounded too).  Only error bounds: a VS is a
+#: model, and a designer may try odd ones; these only refuse values no structure
+#: or isolator has (the report's Tables 9.1-9.3 values in the reasons).
+VS_BOUNDS: dict[str, Bound] = {
+    "force_pound*second**2/inch": Bound(
+        "lbf*s**2/in",
+        1e-5,
+        None,
+        None,
+        1e7,
+        "a mass: report m_vs 5.18 (2000 lb); 1e-5 is 0.004 lb, 1e7 is 3.9e9 lb, as for the table's mass",
+    ),
+    "force_pound/inch": Bound(
+        "lbf/in",
+        None,
+        None,
+        None,
+        1e13,
+        "a stiffness: report k_s 113-1754, k_i up to 3513 lbf/in; a steel bar 1 ft^2 by 1 in is 4e9, "
+        "tests model rigid storeys with 1e10",
+    ),
+    "force_pound*second/inch": Bound(
+        "lbf*s/in", None, None, None, 1e9, "a damping: report c 0.11-64 lbf*s/in; 1e9 is a rigid link"
+    ),
+    "force_pound": Bound(
+        "lbf", None, None, None, 1e10, "a force: report w_ps 3600 lbf, q_d 504-1176 lbf; 1e10 lbf is 4.5e6 t"
+    ),
+    "inch": Bound(
+        "in",
+        1e-6,
+        None,
+        None,
+        1e5,
+        "a length: report u_y 0.008-0.4 in, radii 2.8-83.5 in; 1e-6 in is below any yield, 1e5 in is 1.6 mi",
+    ),
+    "second": Bound("s", 1e-4, None, None, 1e4, "a period: report T_s 1.5-4 s; 1e4 s is 2.8 h"),
+    "hertz": Bound(
+        "Hz",
+        1e-4,
+        None,
+        None,
+        1e5,
+        "a frequency: report f 0.5-2 Hz; 1e-4 and 1e5 Hz are periods of 2.8 h and 10 us",
+    ),
+    "second/inch": Bound(
+        "s/in", None, None, None, 1e6, "a rate parameter: report a = 2.54 s/in; 1e6 is a step change"
+    ),
+    "dimensionless": Bound(
+        "-",
+        None,
+        None,
+        None,
+        1e3,
+        "a ratio: report friction 0.02-0.2, alpha 0.1, zeta up to 0.3, Bouc-Wen n = 2; 1e3 is none of them",
+    ),
+}
+#: Bound of a VS parameter in a unit :data:`VS_BOUNDS` does not list (a user's own type).
+VS_ANY_BOUND = Bound("(its unit)", None, None, None, 1e15, "any parameter: 1e15 in internal units")
+
+#: Bounds of specimen values (in lbf: the weight of a rigid mass or of a storey).
+SPECIMEN_BOUNDS: dict[str, Bound] = {
+    "weight": Bound(
+        "lbf",
+        None,
+        None,
+        1e7,
+        1e9,
+        "report 3600 lbf (Section 8.2); the largest tables carry about 2.6e6 lb, 1e9 lb is 4.5e5 t",
+    ),
 }
 
 
@@ -246,6 +323,77 @@ def table_warnings(values: Mapping[str, Any], *, where: str = "") -> list[str]:
                 f"{_fmt(shortest)} s (valve pole {_fmt(max(poles))} Hz): the controller cannot follow the valve"
             )
     return out
+
+
+def vs_bound(unit: str) -> Bound:
+    """The bound of a VS parameter in internal ``unit`` (pint expression; spaces ignored)."""
+    return VS_BOUNDS.get(unit.replace(" ", ""), VS_ANY_BOUND)
+
+
+def check_vs_value(key: str, value: float, unit: str) -> float:
+    """Refuse a VS parameter outside the broad bounds of its dimension (:data:`VS_BOUNDS`).
+
+    The magnitude is checked (a parameter that may be negative is bounded
+    both ways); zero passes the lower bound (a zero damping is no slip).
+
+    Parameters
+    ----------
+    key : str
+        Name of the parameter (with its file prefix), for messages.
+    value : float
+        Its value in internal ``unit``.
+    unit : str
+        The parameter's internal unit (pint expression).
+
+    Returns
+    -------
+    float
+        ``value``.
+
+    Raises
+    ------
+    ConfigError
+        The value is not finite or is outside the bounds, naming ``key``.
+
+    Examples
+    --------
+    >>> check_vs_value("m_vs", 5.18, "force_pound * second**2 / inch")
+    5.18
+    >>> check_vs_value("m_vs", 1e308, "force_pound * second**2 / inch")
+    Traceback (most recent call last):
+    ...
+    impedance_mil.errors.ConfigError: m_vs: expected a plausible value, at most 1e+07 lbf*s**2/in (a mass: report m_vs 5.18 (2000 lb); 1e-5 is 0.004 lb, 1e7 is 3.9e9 lb, as for the table's mass), got 1e+308
+    """
+    if value != 0.0 or not math.isfinite(value):
+        check_value(key, abs(value), vs_bound(unit))
+    return value
+
+
+def check_specimen_weight(key: str, weight_lbf: float) -> float:
+    """Refuse an impossible specimen weight [lbf] and warn about an odd one (:data:`SPECIMEN_BOUNDS`).
+
+    Returns
+    -------
+    float
+        ``weight_lbf``.
+
+    Raises
+    ------
+    ConfigError
+        The weight is not finite or above the error bound, naming ``key``.
+
+    Examples
+    --------
+    >>> check_specimen_weight("weight", 3600.0)
+    3600.0
+    >>> check_specimen_weight("weight", 1e308)
+    Traceback (most recent call last):
+    ...
+    impedance_mil.errors.ConfigError: weight: expected a plausible value, at most 1e+09 lbf (report 3600 lbf (Section 8.2); the largest tables carry about 2.6e6 lb, 1e9 lb is 4.5e5 t), got 1e+308
+    """
+    text = check_value(key, weight_lbf, SPECIMEN_BOUNDS["weight"])
+    warn_all([text] if text is not None else [])
+    return weight_lbf
 
 
 def warn_all(texts: list[str], stacklevel: int = 3) -> None:

@@ -46,6 +46,7 @@ from ..fileio import (
     file_sha256,
     folder_lock,
     json_safe,
+    parse_json,
     read_text,
     remove_stale_temporaries,
 )
@@ -146,10 +147,10 @@ class RunRecord:
         Raises
         ------
         ValueError
-            Not a record: bad JSON (json.JSONDecodeError), or missing fields or an
-            unknown status (DataFileError).
+            Not a record: bad or oversized JSON (:func:`impedance_mil.fileio.parse_json`),
+            or missing fields or an unknown status (DataFileError).
         """
-        data = json.loads(text)
+        data = parse_json(text, "run record")
         if not isinstance(data, dict) or data.get("status") not in STATUSES:
             raise DataFileError("run record", "not a run record (a JSON object with a known status)")
         data["studies"] = tuple(data.get("studies", ()))
@@ -260,7 +261,8 @@ class CampaignStore:
 
     def read_json(self, name: str) -> Any:
         """Read a JSON file at the top of the campaign folder (OSError/ValueError on failure)."""
-        return json.loads((self.root / name).read_text(encoding="utf-8"))
+        path = self.root / name
+        return parse_json(path.read_text(encoding="utf-8"), path)
 
 
 def _checked_id(run_id: str) -> str:
@@ -275,4 +277,4 @@ def _open(path: Path) -> None:
         with h5py.File(path, "r") as fh:
             fh.visit(lambda name: None)  # walks every group and dataset header
     elif path.suffix == ".json":
-        json.loads(read_text(path, "a JSON file"))
+        parse_json(read_text(path, "a JSON file"), path)

@@ -11,11 +11,16 @@ constraint thresholds to :class:`~impedance_mil.design.DesignCriteria`'s.
 
 Exit status: 0 on success (also when a constraint is violated: the
 violation is a warning in the output and the JSON); 2 for bad input or an
-impossible design (one line on stderr, nothing written).
+impossible design (one line on stderr, nothing written).  Every option's
+value is checked whatever ``--method`` and ``--filter`` are: ``--grid 0``
+is refused under the filter method too, and ``--ripple-db nan`` with a
+Butterworth filter (an option the method does not use is ignored, so one
+command line can be tried with both methods).
 """
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +29,7 @@ import typer
 from ..config import parse_overrides
 from ..design import DesignCriteria, design_controller, save_design, table_model, virtual_model
 from ..design.feasibility import FcScan, choose_fc, mass_ratio_study, scan_fc
-from ..design.filters import FAMILIES
+from ..design.filters import FAMILIES, check_order, check_ripple
 from ..design.forms import FORMS, TableModel, VirtualModel
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..design.optimized import OptimizationSettings, design_optimized, with_indices
@@ -164,6 +169,16 @@ def design(
         raise ConfigError("--plots", "an existing folder", str(plots))
     if output is not None and not output.parent.is_dir():
         raise ConfigError("-o", "a path in an existing folder", str(output))
+    if method not in ("filter", "optimized"):
+        raise ConfigError("--method", "filter or optimized", method)
+    # Every option's value is checked whatever the method and filter (one that does not use it ignores it).
+    with option_errors({"ripple_db": "--ripple-db", "filter order": "--order"}):
+        check_ripple(ripple_db)
+        if order is not None:
+            check_order(order)
+    if fc_w is not None and not 0 < fc_w < math.inf:
+        raise ConfigError("--fc-w", "a positive cut-off frequency in Hz", fc_w)
+    settings, amplitudes = _optimization_options(margin, margin_band, grid, robust_amplitudes)
     fcs = [_DESIGN.fc_hz] if fc is None else _parse_fc(fc)
     band_values = _parse_list("--band", band, 2)
     criteria_given: dict[str, Any] = {
@@ -188,8 +203,6 @@ def design(
     vm = virtual_model(spec.vs, spec.name, **lin) if spec is not None else None
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
-    if method not in ("filter", "optimized"):
-        raise ConfigError("--method", "filter or optimized", method)
     if method == "optimized":
         if vm is None or form != "standardized":
             raise ConfigError("--method", "a VS (--vs) and the standardized form for the optimized design")
@@ -197,9 +210,7 @@ def design(
             raise ConfigError("--vs", "a VS preset or file")
         if fcs is None:
             raise ConfigError("--fc", "a reference cut-off in Hz for --method optimized (not auto)", fc)
-        result = _optimized(
-            params, spec, lin, vm, fcs[0], criteria, (margin, margin_band, grid), robust_amplitudes
-        )
+        result = _optimized(params, spec, lin, vm, fcs[0], criteria, settings, amplitudes)
         if output is not None:
             save_design(result, output)
         doc = result.to_json()
@@ -249,25 +260,35 @@ def design(
     _print_human(result, reasons, study, written)
 
 
-def _optimized(params, spec: VSSpec, lin, vm: VirtualModel, fc_hz, criteria, options, amplitudes):
-    """The optimized design (Section 10.4) with the robust set of the CLI options."""
-    margin, margin_band, grid = options
+#: The options of the optimized design's settings (OptimizationSettings' keys).
+OPTIMIZED_OPTIONS = {
+    "margin": "--margin",
+    "margin_band": "--margin-band",
+    "basis": "--method",
+    "check_per_decade": "--grid",
+}
+
+
+def _optimization_options(
+    margin: float, margin_band: str | None, grid: int, amplitudes: str
+) -> tuple[OptimizationSettings, list[float]]:
+    """The optimized design's settings and robust DF amplitudes [in], checked (for any method)."""
     band = _parse_list("--margin-band", margin_band, 2) or []
-    keys = {
-        "margin": "--margin",
-        "margin_band": "--margin-band",
-        "basis": "--method",
-        "check_per_decade": "--grid",
-    }
-    with option_errors(keys):
+    with option_errors(OPTIMIZED_OPTIONS):
         settings = OptimizationSettings(
             margin_deg=margin,
             passivity_band_hz=(band[0], band[1]) if band else None,
             check_per_decade=grid,
         )
+    return settings, _parse_list("--robust-amplitudes", amplitudes) or []
+
+
+def _optimized(params, spec: VSSpec, lin, vm: VirtualModel, fc_hz, criteria, settings, amplitudes):
+    """The optimized design (Section 10.4) with the robust set of the CLI options (DF ``amplitudes`` [in])."""
+    with option_errors(OPTIMIZED_OPTIONS):
         robust = {}
         if vm.equivalent is not None:
-            for a in _parse_list("--robust-amplitudes", amplitudes) or []:
+            for a in amplitudes:
                 robust[f"DF {a:g} in"] = virtual_model(spec.vs, spec.name, **{**lin, "amplitude_in": a})
         return design_optimized(
             params, vm, robust_vs=robust, fc_hz=fc_hz, criteria=criteria, settings=settings

@@ -24,7 +24,7 @@ from ..config import parse_overrides
 from ..errors import ConfigError
 from ..lab.evaluation import compare_summaries, evaluate_recording
 from ..lab.recorded import read_lab_recording
-from ..lab.results import load_run
+from ..lab.results import RUN_FILE_SUFFIXES, load_run
 from ..lab.runfile import MODEL_LOOP, read_summary, recomputed_summary, write_run_file
 from ..report.evaluation_page import write_evaluation_page
 from ..report_config import report_config
@@ -92,7 +92,7 @@ def evaluate(
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing output files."),
 ) -> None:
     """Judge a recorded tracking or MIL test with the metrics, run file and page of a virtual run."""
-    out = output_path("-o", output, overwrite)
+    out = output_path("-o", output, overwrite, RUN_FILE_SUFFIXES)
     page = output_path("--report", report, overwrite)
     if page is not None and page.resolve() == out.resolve():
         raise ConfigError("--report", "a path other than the run file (-o)", str(report))

@@ -91,13 +91,22 @@ class Written:
 
 
 @overload
-def output_path(option: str, path: Path, overwrite: bool) -> Path: ...
+def output_path(option: str, path: Path, overwrite: bool, suffixes: tuple[str, ...] = ()) -> Path: ...
 @overload
-def output_path(option: str, path: Path | None, overwrite: bool) -> Path | None: ...
-def output_path(option: str, path: Path | None, overwrite: bool) -> Path | None:
-    """Check an output path before anything runs: its folder exists, and it is new or ``--overwrite``."""
+def output_path(
+    option: str, path: Path | None, overwrite: bool, suffixes: tuple[str, ...] = ()
+) -> Path | None: ...
+def output_path(
+    option: str, path: Path | None, overwrite: bool, suffixes: tuple[str, ...] = ()
+) -> Path | None:
+    """Check an output path before anything runs: its folder exists, and it is new or ``--overwrite``.
+
+    ``suffixes``: the file's suffixes allowed (any letter case; none given: any suffix).
+    """
     if path is None:
         return None
+    if suffixes and path.suffix.lower() not in suffixes:
+        raise ConfigError(option, "a file named " + " or ".join(f"*{s}" for s in suffixes), str(path))
     if not path.parent.is_dir():
         raise ConfigError(option, "a path in an existing folder", str(path))
     if path.is_dir():

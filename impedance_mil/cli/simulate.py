@@ -39,6 +39,7 @@ from ..lab.choices import Choices, frf_test, mil_test, tracking_test
 from ..lab.descriptions import FRF_DELAYS, REQUIRED_CONSTRAINTS, FrfTest, TrackingTest, parse_required
 from ..lab.experiments import ControlledRun
 from ..lab.pretest import Pretest
+from ..lab.results import RUN_FILE_SUFFIXES
 from ..lab.runfile import MODEL_LOOP, write_run_file
 from ..report.runpage import write_run_page
 from ..report_config import report_config
@@ -254,7 +255,7 @@ def run_command(
     require: str = ",".join(REQUIRED_CONSTRAINTS),
 ) -> None:
     """Shared body of ``simulate`` and ``track``: check outputs, perform, print, exit status."""
-    out = output_path("-o", output, overwrite)
+    out = output_path("-o", output, overwrite, RUN_FILE_SUFFIXES)
     page = output_path("--report", report, overwrite)
     if page is not None and page.resolve() == out.resolve():
         raise ConfigError("--report", "a path other than the run file (-o)", str(report))
@@ -498,8 +499,7 @@ def frf(
         kp_values=None if kp_values is None else tuple(kp_list(kp_values)),
         kp_study=kp_study_flag,
     )
-    output_path("-o", output, overwrite)
-    out = output
+    out = output_path("-o", output, overwrite, RUN_FILE_SUFFIXES)
     try:
         doc = run_frf_test(test, out, quiet=as_json)
     except KeyboardInterrupt:

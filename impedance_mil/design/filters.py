@@ -27,6 +27,8 @@ FAMILIES = ("butterworth", "bessel", "chebyshev1")
 
 #: Highest filter order accepted (beyond it the polynomial coefficients lose precision).
 MAX_ORDER = 10
+#: Largest Chebyshev I pass-band ripple [dB] (10 dB is a gain swing of 3.2, no flat pass band).
+MAX_RIPPLE_DB = 10.0
 
 
 @dataclass(frozen=True)
@@ -60,12 +62,11 @@ class LowpassFilter:
     def __post_init__(self):
         if self.family not in FAMILIES:
             raise ConfigError("filter", "one of " + ", ".join(FAMILIES), self.family)
-        if isinstance(self.order, bool) or int(self.order) != self.order or not 1 <= self.order <= MAX_ORDER:
-            raise ConfigError("filter order", f"an integer from 1 to {MAX_ORDER}", self.order)
+        check_order(self.order)
         if not (np.isfinite(self.fc_hz) and self.fc_hz > 0):
             raise ConfigError("fc", "a positive cut-off frequency in Hz", self.fc_hz)
-        if self.family == "chebyshev1" and not (0 < self.ripple_db < 10):
-            raise ConfigError("ripple_db", "a pass-band ripple between 0 and 10 dB", self.ripple_db)
+        if self.family == "chebyshev1":
+            check_ripple(self.ripple_db)
 
     def tf(self) -> TransferFunction:
         """The filter as a transfer function in s [rad/s], unit DC gain."""
@@ -88,6 +89,37 @@ class LowpassFilter:
             "fc_hz": float(self.fc_hz),
             "ripple_db": float(self.ripple_db),
         }
+
+
+def check_ripple(ripple_db: float) -> float:
+    """Refuse a Chebyshev I pass-band ripple [dB] outside (0, :data:`MAX_RIPPLE_DB`) (NaN too).
+
+    Raises
+    ------
+    ConfigError
+        Naming ``ripple_db``.
+
+    Examples
+    --------
+    >>> check_ripple(0.5)
+    0.5
+    """
+    if not 0 < ripple_db < MAX_RIPPLE_DB:
+        raise ConfigError("ripple_db", f"a pass-band ripple between 0 and {MAX_RIPPLE_DB:g} dB", ripple_db)
+    return ripple_db
+
+
+def check_order(order: int) -> int:
+    """Refuse a filter order that is not an integer from 1 to :data:`MAX_ORDER`.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``filter order``.
+    """
+    if isinstance(order, bool) or int(order) != order or not 1 <= order <= MAX_ORDER:
+        raise ConfigError("filter order", f"an integer from 1 to {MAX_ORDER}", order)
+    return order
 
 
 def required_order(H: TransferFunction) -> int:

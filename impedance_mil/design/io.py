@@ -378,7 +378,7 @@ def _vs_entry(entry: Any) -> dict[str, Any] | None:
 
 
 def _check_table(table: Any) -> None:
-    """Refuse table parameters that are not numbers, out of range or implausible (present keys only).
+    """Refuse unknown table keys, and parameters that are not numbers, out of range or implausible (present keys only).
 
     A design file's table is ``TableParameters.to_dict()`` in internal units;
     a design built from closed forms may carry only some of the keys.
@@ -389,8 +389,8 @@ def _check_table(table: Any) -> None:
         raise ConfigError("table", "the table parameters (TableParameters.to_dict())", _shown(table))
     for key, value in table.items():
         spec = TABLE_FIELDS.get(key)
-        if spec is None:
-            continue
+        if spec is None:  # a misspelt key would otherwise be ignored and its value lost
+            raise ConfigError(f"table.{key}", "a table parameter: " + ", ".join(TABLE_FIELDS))
         items = value if spec.count > 1 and isinstance(value, list) else [value]
         if spec.count > 1 and len(items) != spec.count:
             raise ConfigError(f"table.{key}", f"a list of {spec.count} numbers in {spec.unit}", _shown(value))

@@ -26,6 +26,7 @@ from ..config import quantity, read_toml
 from ..errors import ConfigError, DataFileError
 from ..plant import TableParameters
 from ..plant.parameters import ratings_from_report, table_mapping
+from ..plausibility import check_specimen_weight
 from ..report_config import ReportConfig, report_config
 from ..signals.sources import scaled_motion
 from ..specimens import RigidMass, specimen_from_config
@@ -165,6 +166,7 @@ def choose_specimen(
     if key == "rigid":
         raw = _pick(choices.specimen_weight, cfg.specimen.article_weight_lbf, "specimen.article_weight", used)
         lbf = quantity(choices.key("specimen_weight"), raw, "force_pound", "positive")
+        check_specimen_weight(choices.key("specimen_weight"), lbf)
         return SpecimenChoice(RigidMass(lbf), f"rigid mass of {lbf:.0f} lb", lbf)
     return _specimen_file(Path(text), choices.key("specimen"))
 
@@ -191,6 +193,8 @@ def choose_motion(choices: Choices, cfg: ReportConfig, used: dict) -> MotionChoi
 
     The PGA of Table 8.1 applies to the default motion's record when no PGA is
     chosen; any other motion runs at its recorded PGA unless ``pga_g`` is given.
+    A ``duration`` [s] keeps the motion's first seconds; one longer than the
+    (scaled) motion by more than a time step is refused, not silently cut to it.
     """
     default = cfg.default_motion
     argument = choices.motion
@@ -204,6 +208,12 @@ def choose_motion(choices: Choices, cfg: ReportConfig, used: dict) -> MotionChoi
     motion = scaled_motion(argument, choices.units, time_scale, pga, key=choices.key("motion"))
     if choices.duration is not None:
         length = quantity(choices.key("duration"), choices.duration, "second", "positive")
+        if length > motion.duration + motion.time_step:
+            raise ConfigError(
+                choices.key("duration"),
+                f"at most the motion's length, {motion.duration:.6g} s (leave it out to run the whole motion)",
+                length,
+            )
         if length < motion.duration:
             motion = motion.trimmed(0.0, length)
     return MotionChoice(motion, argument, time_scale, pga, choices.duration)

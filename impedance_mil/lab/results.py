@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,7 +25,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import ConfigError, DataFileError
-from ..fileio import atomic_path, json_safe
+from ..fileio import atomic_path, json_safe, parse_json
 from .structures import CHANNELS
 from .trips import Trip, TripCause
 
@@ -33,6 +34,8 @@ FILE_FORMAT = "impedance-mil run 1"
 #: Root attributes and groups of a run file (``save_run``'s extras may not replace them).
 RUN_ATTRS = ("format", "software_version", "mode", "loop_time_s", "config_json", "trip_json", "data_sha256")
 RUN_GROUPS = ("channels", "vs_states")
+#: Suffixes of a run file (HDF5); ``imil simulate -o r.xyz`` is refused, not written as HDF5 under another name.
+RUN_FILE_SUFFIXES = (".h5", ".hdf5")
 
 
 @dataclass(frozen=True, eq=False)
@@ -131,7 +134,7 @@ def save_run(
         f.attrs["mode"] = result.mode
         f.attrs["loop_time_s"] = result.loop_time
         f.attrs["config_json"] = json.dumps(json_safe(result.config), default=repr)
-        f.attrs["trip_json"] = json.dumps(_trip_record(result.trip))
+        f.attrs["trip_json"] = json.dumps(json_safe(_trip_record(result.trip)))
         grp = f.create_group("channels")
         for name, arr in result.channels.items():
             grp.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
@@ -194,7 +197,24 @@ def _trip_from_record(path: Path, record: Mapping[str, Any]) -> Trip:
         raise DataFileError(
             path, f"trip_json: cause code {record['cause']!r} does not match limit {record['limit']!r}"
         )
-    return Trip(cause, float(record["time_s"]), float(record["value"]))
+    value = record["value"]  # None: a non-finite value (JSON has no NaN)
+    return Trip(cause, float(record["time_s"]), math.nan if value is None else float(value))
+
+
+def attr_json(path: str | Path, attrs: Mapping[str, Any], key: str) -> Any:
+    """The JSON text of HDF5 attribute ``key``, parsed with the caps of :func:`impedance_mil.fileio.parse_json`.
+
+    Raises
+    ------
+    DataFileError
+        Not JSON, nested too deep, or a number that is not a finite double
+        (the message names the file and the attribute).
+    KeyError
+        No such attribute.
+    """
+    raw = attrs[key]
+    text = raw.decode("utf-8", "replace") if isinstance(raw, bytes) else str(raw)
+    return parse_json(text, f"{path}: {key}")
 
 
 def _write_groups(parent: h5py.Group, groups: Mapping[str, Mapping[str, Any]]) -> None:
@@ -219,15 +239,15 @@ def load_run(path: str | Path) -> RunResult:
             # Files written before checksums (software 0.1.0 before issue 18) have none: shapes only.
             _check_records(path, stored, vs_states, f.attrs.get("data_sha256"))
             channels = {name: stored[name] for name in CHANNELS if name in stored}
-            trip = json.loads(f.attrs["trip_json"])
+            trip = attr_json(path, f.attrs, "trip_json")
             return RunResult(
                 channels=channels,
                 vs_states=vs_states,
-                vs_state_names=tuple(json.loads(f["vs_states"].attrs["names"])),
+                vs_state_names=tuple(attr_json(path, f["vs_states"].attrs, "names")),
                 mode=str(f.attrs["mode"]),
                 loop_time=float(f.attrs["loop_time_s"]),
                 trip=None if trip is None else _trip_from_record(path, trip),
-                config=json.loads(f.attrs["config_json"]),
+                config=attr_json(path, f.attrs, "config_json"),
                 software_version=str(f.attrs["software_version"]),
             )
     except OSError as exc:

@@ -34,7 +34,7 @@ from ..errors import DataFileError
 from ..fileio import json_safe
 from ..units import in_s2_to_g
 from .metrics import RunMetrics, evaluate_run, vs_force_history
-from .results import RunResult, save_run
+from .results import RunResult, attr_json, save_run
 
 #: Root attribute of a run file holding the producer's summary (JSON).
 SUMMARY_ATTR = "imil_summary_json"
@@ -187,7 +187,7 @@ def read_summary(path: str | Path) -> tuple[dict | None, dict]:
                 for name, sub in group.items()
                 if isinstance(sub, h5py.Group)
             }
-            return json.loads(fh.attrs[SUMMARY_ATTR]), arrays
+            return attr_json(path, fh.attrs, SUMMARY_ATTR), arrays
     except (OSError, ValueError) as exc:
         raise DataFileError(path, f"cannot read the run summary ({exc})") from None
 

@@ -29,6 +29,7 @@ import numpy as np
 
 from ..config import Field, parse_fields, quantity
 from ..errors import ConfigError
+from ..plausibility import check_specimen_weight
 from ..report_config import report_config
 from .structural import LinearMDOF, RigidMass, Specimen
 from .vessel import STEEL_MODULUS, WATER_UNIT_WEIGHT, FluidVessel
@@ -96,6 +97,8 @@ def _shear_building(cfg: Mapping[str, Any], where: str) -> LinearMDOF:
         if key not in cfg:
             raise ConfigError(f"{where}{key}", "a list of values (required)")
     weights = _number_list(f"{where}story_weights", cfg["story_weights"], "force_pound")
+    for weight in weights:
+        check_specimen_weight(f"{where}story_weights", float(weight))
     stiffness = _number_list(f"{where}story_stiffness", cfg["story_stiffness"], "force_pound / inch")
     zeta = quantity(f"{where}damping_ratio", cfg.get("damping_ratio", 0.02), "dimensionless", "fraction")
     base = quantity(f"{where}base_weight", cfg.get("base_weight", 0.0), "force_pound", "nonnegative")
@@ -116,7 +119,8 @@ def specimen_from_config(cfg: Mapping[str, Any], *, where: str = "specimen.") ->
     ------
     ConfigError
         An empty table (it is not the report's vessel), an unknown type or
-        key, or an invalid value.
+        key, an invalid value, or a weight above the plausibility bound
+        (:data:`impedance_mil.plausibility.SPECIMEN_BOUNDS`).
     """
     rest = {k: v for k, v in cfg.items() if k != "type"}
     if not cfg:
@@ -127,7 +131,8 @@ def specimen_from_config(cfg: Mapping[str, Any], *, where: str = "specimen.") ->
     if kind == "vessel":
         return _vessel(rest, where)
     if kind == "rigid_mass":
-        return RigidMass(parse_fields(_RIGID_FIELDS, rest, where=where)["weight"])
+        weight = parse_fields(_RIGID_FIELDS, rest, where=where)["weight"]
+        return RigidMass(check_specimen_weight(f"{where}weight", weight))
     if kind == "shear_building":
         return _shear_building(rest, where)
     raise ConfigError(f"{where}type", "one of vessel, rigid_mass, shear_building", kind)

@@ -36,6 +36,7 @@ from functools import lru_cache
 from typing import Any
 
 from ..errors import ConfigError
+from ..plausibility import check_vs_value
 from .expressions import CONSTANTS, FUNCTIONS, names, python_dialect, render
 
 #: The inputs of every VS.
@@ -234,7 +235,9 @@ class VSDefinition:
         Raises
         ------
         ConfigError
-            A missing, unknown, non-numeric or out-of-range value (the key is named).
+            A missing, unknown, non-numeric or out-of-range value, or one outside the
+            broad bounds of its dimension (:func:`impedance_mil.plausibility.check_vs_value`;
+            the key is named).
         """
         known = set(self.parameter_names)
         for key in values:
@@ -249,7 +252,9 @@ class VSDefinition:
                 raise ConfigError(f"{where}{p.name}", f"a value for {p.label} [{p.unit}]")
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ConfigError(f"{where}{p.name}", f"a number [{p.unit}]", value)
-            out[p.name] = _checked(f"{where}{p.name}", float(value), p.check)
+            out[p.name] = check_vs_value(
+                f"{where}{p.name}", _checked(f"{where}{p.name}", float(value), p.check), p.unit
+            )
         scope = {**CONSTANTS, **out, **self.derived_values(out)}
         for rule in self.rules:
             if not python_eval(rule.condition, scope, condition=True):

@@ -57,3 +57,23 @@ def test_unreadable_or_failed_records_mean_the_run_is_redone(tmp_path):
     assert not store.is_done("gone")
     store.write_record(RunRecord("aborted", "selftest", (), {}, "aborted", error="stroke"))
     assert store.is_done("aborted")
+
+
+@pytest.mark.parametrize(
+    "text",
+    ['{"status": "ok", "run_id": ' + "1" * 400 + "}", '{"status": "ok", "x": ' + "[" * 40 + "]" * 40 + "}"],
+)
+def test_a_record_with_hostile_json_is_unreadable_and_redone(tmp_path, text):
+    # json.loads read a 400-digit number or deep nesting; parse_json refuses them (issue 18).
+    store = CampaignStore(tmp_path)
+    store.create()
+    store.record_path("hostile").write_text(text)
+    assert store.load_record("hostile") is None and not store.is_done("hostile")
+
+
+def test_campaign_json_is_read_with_the_caps(tmp_path):
+    store = CampaignStore(tmp_path)
+    store.create()
+    (tmp_path / "campaign.json").write_text('{"runs": NaN}')
+    with pytest.raises(ValueError, match="campaign.json: .*NaN is not a JSON number"):
+        store.read_json("campaign.json")

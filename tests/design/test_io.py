@@ -67,6 +67,8 @@ def test_round_trip(tmp_path, design):
         (lambda d: d["table"].update(mass=-1.0), "table.mass"),
         (lambda d: d["table"].update(mass=True), "table.mass: expected a number"),
         (lambda d: d["table"].update(valve_poles_hz=[70.0]), "table.valve_poles_hz: expected a list of 2"),
+        # a misspelt table key was ignored, its value lost (issue 18)
+        (lambda d: d["table"].update(Kp_gain=0.001), "table.Kp_gain: expected a table parameter: Ke, Kp"),
     ],
 )
 def test_bad_files_are_refused(tmp_path, design, change, message):

@@ -65,3 +65,24 @@ def test_one_feedback_vocabulary_and_the_old_spellings():
     assert (Feedback.FORCE_EQUILIBRIUM.channel, Feedback.LOAD_CELLS.compensates) == ("fe", True)
     with pytest.raises(ConfigError, match="--feedback"):
         Feedback.parse("none", "--feedback", allow_none=False)
+
+
+def test_a_duration_longer_than_the_motion_is_refused_not_cut_to_it():
+    # --duration 1e308 ran the whole record (about a minute) instead of being refused (issue 18).
+    whole = tracking_test(Choices()).motion.motion
+    keys = {"duration": "--duration", "specimen_weight": "--specimen-weight"}
+    for too_long in (1e308, whole.duration + 2 * whole.time_step):
+        with pytest.raises(
+            ConfigError, match=f"--duration: expected at most the motion's length, {whole.duration:.6g} s"
+        ):
+            tracking_test(Choices(duration=too_long, keys=keys))
+    exact = tracking_test(Choices(duration=whole.duration)).motion.motion
+    assert exact.duration == whole.duration and len(exact.accel) == len(whole.accel)
+
+
+def test_a_rigid_weight_beyond_the_plausibility_bound_is_refused_naming_the_option():
+    keys = {"specimen_weight": "--specimen-weight", "specimen": "--specimen"}
+    with pytest.raises(
+        ConfigError, match="--specimen-weight: expected a plausible value, at most 1e\\+09 lbf"
+    ):
+        tracking_test(Choices(specimen="rigid", specimen_weight="1e308 lbf", duration=2.0, keys=keys))

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import dataclasses
+import json
+import math
+
 import h5py
 import numpy as np
 import pytest
@@ -9,6 +13,7 @@ import pytest
 from impedance_mil.errors import DataFileError
 from impedance_mil.lab import load_run, save_run, simulate
 from impedance_mil.lab.results import data_digest
+from impedance_mil.lab.trips import Trip, TripCause
 from impedance_mil.plant.nonlinear import NonlinearTable
 
 from .conftest import report_parameters
@@ -73,3 +78,37 @@ def test_imil_report_refuses_a_damaged_file_in_one_line(imil, saved, tmp_path):
     r = imil("report", saved, "-o", tmp_path / "page.html")
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and "data_sha256" in r.stderr
     assert not (tmp_path / "page.html").exists()
+
+
+@pytest.mark.parametrize(
+    "attr, text, message",
+    [
+        ("config_json", "1" + "0" * 400, "config_json: line 1: a number of more than 100 digits"),
+        (
+            "config_json",
+            "[" * 40 + "]" * 40,
+            "config_json: line 1: arrays or objects nested more than 32 deep",
+        ),
+        (
+            "trip_json",
+            '{"limit": "stroke", "time_s": NaN, "value": 1.0}',
+            "trip_json: .*NaN is not a JSON number",
+        ),
+    ],
+)
+def test_the_json_attributes_are_read_with_the_caps_of_parse_json(saved, attr, text, message):
+    # json.loads read these (a 400-digit integer, deep nesting, NaN) without a word (issue 18).
+    with h5py.File(saved, "r+") as f:
+        f.attrs[attr] = text
+    with pytest.raises(DataFileError, match=message) as info:
+        load_run(saved)
+    assert str(saved) in str(info.value)
+
+
+def test_a_trip_with_a_non_finite_value_round_trips_as_nan(run, tmp_path):
+    tripped = dataclasses.replace(run, trip=Trip(TripCause.NAN, 1.5, math.nan))
+    path = save_run(tripped, tmp_path / "nan.h5")
+    with h5py.File(path) as f:
+        assert json.loads(f.attrs["trip_json"])["value"] is None  # strict JSON: no NaN
+    back = load_run(path).trip
+    assert back.cause == TripCause.NAN and back.time_s == 1.5 and math.isnan(back.value)

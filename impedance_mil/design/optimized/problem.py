@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from ...bounds import MAX_GRID_PER_DECADE, check_count
 from ...errors import ConfigError, MissingDependencyError
 from ...units import TWO_PI
 from .basis import PoleBasis
@@ -86,7 +87,8 @@ class OptimizationSettings:
     initial_per_decade : int
         Points per decade of the first grids of the exchange loop.
     check_per_decade : int
-        Points per decade of the dense grid the exchange loop checks.
+        Points per decade of the dense grid the exchange loop checks (both
+        grids at most :data:`impedance_mil.bounds.MAX_GRID_PER_DECADE`).
     max_rounds : int
         Exchange rounds before giving up.
     tolerance : float
@@ -121,6 +123,8 @@ class OptimizationSettings:
         for key in ("initial_per_decade", "check_per_decade", "max_rounds"):
             if int(getattr(self, key)) < 1:
                 raise ConfigError(key, "a positive integer", getattr(self, key))
+        for key in ("initial_per_decade", "check_per_decade"):
+            check_count(key, getattr(self, key), MAX_GRID_PER_DECADE, "points per decade")
 
     def margin_band(self, nyquist_hz: float) -> tuple[float, float]:
         """The band of III [Hz]; refused above the Nyquist frequency ``nyquist_hz`` [Hz].
