@@ -681,6 +681,51 @@ def _cases():
         files = {"rec.csv": RECORDING_CSV} if argv[0] in ("identify", "evaluate") else {}
         files |= {"d.json": DESIGN} if argv[0] == "export" else {}
         yield case, argv, files, (name,)
+    yield from _lab_cases()
+
+
+#: A lab file (issue 12) on the report's table, with a +-150 mm stroke.
+LAB_TOML = '[table]\nfile = "t.toml"\nmid_stroke = "150 mm"\n'
+
+#: Bad lab files: (text appended to LAB_TOML, the section and key the error must name).
+BAD_LABS = {
+    "unknown section": ("[limitz]\nstroke = 1\n", "[limitz]"),
+    "unknown key": ("[limits]\nstrok = 1\n", "limits.strok"),
+    "stroke zero": ('[limits]\nstroke = "0 mm"\n', "limits.stroke"),
+    "stroke beyond mid-stroke": ('[limits]\nstroke = "200 mm"\n', "limits.stroke"),
+    "velocity negative": ('[limits]\nvelocity = "-1 m/s"\n', "limits.velocity"),
+    "stroke in seconds": ('[limits]\nstroke = "1 s"\n', "limits.stroke"),
+    "resolution above range": (
+        '[sensors.x]\nquantity = "displacement"\nrange = "1 mm"\nresolution = "2 mm"\n',
+        "sensors.x.resolution",
+    ),
+    "sensor unknown quantity": ('[sensors.x]\nquantity = "torque"\nrange = "1 mm"\n', "sensors.x.quantity"),
+    "output delay off the loop": (
+        '[controller]\nloop_time = "1 ms"\noutput_delay = "1.5 ms"\n',
+        "controller.output_delay",
+    ),
+    "precision unknown": ('[controller]\nprecision = "half"\n', "controller.precision"),
+    "specimen weight in inches": (
+        '[specimen]\nkind = "rigid"\narticle_weight = "3 in"\n',
+        "specimen.article_weight",
+    ),
+    "clipping unknown": ('[sensors]\nclipping = "ignore"\n', "sensors.clipping"),
+}
+
+
+def _lab_cases():
+    for family, content in BAD_FILES.items():
+        for argv in (("lab", "check", "l.toml"), ("lab", "show", "--lab", "l.toml")):
+            yield f"lab file {family} / {' '.join(argv[:2])}", argv, {"l.toml": content}, ("l.toml",)
+    for family, (text, name) in BAD_LABS.items():
+        files = {"t.toml": TABLE_TOML, "l.toml": LAB_TOML + text}
+        for argv in (
+            ("lab", "check", "l.toml"),
+            ("lab", "show", "--lab", "l.toml"),
+            ("simulate", "--lab", "l.toml", "--duration", "0.5", "-o", "r.h5"),
+            ("design", "--lab", "l.toml", "-o", "d.json"),
+        ):
+            yield f"lab file {family} / {' '.join(argv[:2])}", argv, files, (name,)
 
 
 #: Cases accepted today (exit 0) or refused without naming the key, each a finding left for its area's owner: the test is strict,
