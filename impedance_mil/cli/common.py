@@ -48,7 +48,7 @@ def table_parameters(
 
     Errors name the key or file; a lab's controller loop time and valve command apply to its table.
     """
-    if lab is not None:
+    if lab is not None or table is not None:
         return load_lab(lab, table=table, overrides=parse_overrides(sets)).table
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
 

@@ -259,11 +259,12 @@ def load_lab(
     """
     if name is not None and table is not None:
         raise ConfigError("--lab", "either --lab or --table (a table file is a lab with only a table)")
-    if table is not None:
+    if table is not None and not _has_sections(read_toml(table)):
         path, data, label = Path(table), {"table": {"file": str(table)}}, Path(table).name
         base = Path.cwd()
-        read_toml(path)  # a missing or broken file is named now
     else:
+        # A "table file" with [limits], [sensors] ... is a lab file: its sections are not ignored.
+        name = table if table is not None else name
         path = lab_path(name or REPORT_LAB)
         label = REPORT_LAB if path == REPORT_CONFIG_PATH else path.name
         raw = read_toml(path)
@@ -283,6 +284,11 @@ def load_lab(
     sources["sensors"] = sensors.source
     specimen = _specimen(data.get("specimen"), base, where, sources)
     return LabSetup(label, path, params, limits, sensors, controller, specimen, sources)
+
+
+def _has_sections(data: Mapping[str, Any]) -> bool:
+    """Whether a parsed table file has sections beside ``[table]`` (then it is read as a lab file)."""
+    return any(isinstance(v, Mapping) and k != "table" for k, v in data.items())
 
 
 def _mapping(section: Any, name: str, where: str) -> Mapping[str, Any]:

@@ -111,3 +111,12 @@ def test_a_channel_beyond_its_range_is_found(tmp_path):
     found = clipped_channels(lab.sensors.suite, {"t": t, "w": w})
     assert [(c.name, c.samples, c.first_time_s, c.peak) for c in found] == [("lc", 2, 0.2, -1500.0)]
     assert clipped_channels(lab.sensors.suite, {"t": t, "w": w / 2}) == []
+
+
+def test_a_table_file_with_lab_sections_is_read_as_a_lab_not_ignored(tmp_path):
+    # Issue 12: "A [limits] section in the table file is silently ignored."
+    path = _lab(tmp_path, '[limits]\nstroke = "2 in"\n')
+    assert load_lab(table=path).limits.stroke == 2.0
+    bogus = _lab(tmp_path, "[bogus]\nx = 1\n")
+    with pytest.raises(ConfigError, match=r"\[bogus\]"):
+        load_lab(table=bogus)
