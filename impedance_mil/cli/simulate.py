@@ -84,11 +84,12 @@ MotionOpt = typer.Option(
     "--motion",
     help=SOURCE_HELP + f" Default the report's {_GM.name}: {_GM.builtin_substitute} (RSN {_GM.rsn}).",
 )
-UnitsOpt = typer.Option("g", "--units", help=UNITS_HELP)
+MotionUnitsOpt = typer.Option(None, "--motion-units", help=UNITS_HELP)
 TimeScaleOpt = typer.Option(
     None,
     "--time-scale",
-    help=f"Compress time by this factor (t' = t/F; default the report's {_REPORT.motion.time_scale:g}, Section 8.2).",
+    help=f"Compress time by this factor (t' = t/F); default the report's {_REPORT.motion.time_scale:g} "
+    f"for the report's {_GM.name} (no --motion, Section 8.2), else 1 (the motion as recorded).",
 )
 PgaOpt = typer.Option(
     None,
@@ -282,7 +283,7 @@ def simulate(
     sets: list[str] | None = SetOpt,
     sets_vs: list[str] | None = typer.Option(None, "--set-vs", help="VS value KEY=VALUE (repeatable)."),
     motion: str | None = MotionOpt,
-    units: str = UnitsOpt,
+    motion_units: str | None = MotionUnitsOpt,
     time_scale: float | None = TimeScaleOpt,
     pga: float | None = PgaOpt,
     duration: float | None = DurationOpt,
@@ -313,7 +314,7 @@ def simulate(
             specimen_weight=specimen_weight,
             sets_vs=sets_vs,
             motion=motion,
-            units=units,
+            motion_units=motion_units,
             time_scale=time_scale,
             pga_g=pga,
             duration=duration,
@@ -333,7 +334,7 @@ def track(
     specimen_weight: str | None = WeightOpt,
     sets: list[str] | None = SetOpt,
     motion: str | None = MotionOpt,
-    units: str = UnitsOpt,
+    motion_units: str | None = MotionUnitsOpt,
     time_scale: float | None = TimeScaleOpt,
     pga: float | None = PgaOpt,
     duration: float | None = DurationOpt,
@@ -362,7 +363,7 @@ def track(
             water_depth=water_depth,
             specimen_weight=specimen_weight,
             motion=motion,
-            units=units,
+            motion_units=motion_units,
             time_scale=time_scale,
             pga_g=pga,
             duration=duration,

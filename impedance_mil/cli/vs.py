@@ -23,7 +23,7 @@ from ..virtual import presets
 from ..virtual.files import VSSpec, resolve
 from ..virtual.files import describe as describe_spec
 from .common import console, print_json
-from .motion import load_motion
+from .motion import UNITS_HELP, load_motion
 
 app = typer.Typer(
     help="Virtual isolation systems: presets, properties, force-displacement loops.", no_args_is_help=True
@@ -104,6 +104,7 @@ def loops(
         help="Recorded ground motion instead of the harmonic input: built-in name or file (see imil motion).",
     ),
     pga: float | None = typer.Option(None, help="Scale the recorded motion to this PGA [g]."),
+    motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     article_weight: str | None = typer.Option(
         None,
         help="Weight of the rigid test article on the basemat (default: the VS's w_ps, else the report's "
@@ -121,7 +122,7 @@ def loops(
     step = quantity("--dt", dt if dt is not None else report_loop_time(), "second", "positive")
     specs = [_spec(name, sets) for name in vs]
     if motion is not None:
-        loop_input = recorded_input(load_motion(motion, pga=pga), step, motion)
+        loop_input = recorded_input(load_motion(motion, motion_units, pga=pga), step, motion)
     else:
         amp = quantity("--amplitude", amplitude, "inch / second**2", "positive")
         freq = quantity("--frequency", frequency, "hertz", "positive")

@@ -5,7 +5,8 @@ with units (``None``: not chosen).  :func:`tracking_test`, :func:`mil_test`
 and :func:`frf_test` resolve and validate every choice and take each value
 nobody chose from the report's setup (:func:`impedance_mil.report_config.report_config`):
 the table of Table 4.1, the vessel with 36 in of water (or the 3600 lbf
-article for a rigid mass), GM1 time-compressed by 2 at 0.8 g, f_c = 80 Hz,
+article for a rigid mass), GM1 time-compressed by 2 at 0.8 g (a chosen
+motion runs as recorded: time scale 1), f_c = 80 Hz,
 load-cell feedback, single precision, the interlocks and the substep policy.
 Each value so taken is listed in the description's ``from_report`` under its
 key in ``data/report/config.toml``.
@@ -62,8 +63,8 @@ class Choices:
         Water in the vessel [in]; weight of the rigid mass [lbf].
     motion : str or None
         Motion source (:mod:`impedance_mil.signals.sources`).
-    units : str
-        Unit of the accelerations of a column file.
+    motion_units : str or None
+        Unit of the accelerations of a column file that states none (required for such a file).
     time_scale : float or None
         Time compression (t' = t / factor).
     pga_g : float or None
@@ -90,7 +91,7 @@ class Choices:
     water_depth: Any = None
     specimen_weight: Any = None
     motion: str | None = None
-    units: str = "g"
+    motion_units: str | None = None
     time_scale: float | None = None
     pga_g: float | None = None
     duration: Any = None
@@ -185,19 +186,27 @@ def _specimen_file(path: Path, key: str) -> SpecimenChoice:
 def choose_motion(choices: Choices, cfg: ReportConfig, used: dict) -> MotionChoice:
     """Resolve the motion: the report's (GM1, built in) unless chosen; time compression, PGA and length.
 
-    The PGA of Table 8.1 applies to the default motion's record when no PGA is
-    chosen; any other motion runs at its recorded PGA unless ``pga_g`` is given.
+    Only the report's own default motion (no motion chosen) takes the report's
+    time compression (``motion.time_scale``, listed in ``from_report``); a
+    chosen motion runs as recorded (time scale 1) unless ``time_scale`` is
+    given.  The PGA of Table 8.1 applies to the default motion's record when no
+    PGA is chosen; any other motion runs at its recorded PGA unless ``pga_g``
+    is given.
     """
     default = cfg.default_motion
     argument = choices.motion
+    time_scale = choices.time_scale
     if argument is None:
         used["motion.record"] = default.name
         argument = default.builtin_substitute
+        time_scale = _pick(time_scale, cfg.motion.time_scale, "motion.time_scale", used)
     pga = choices.pga_g
     if pga is None and argument.strip().lower() == default.builtin_substitute:
         pga = _pick(None, default.pga_scaled_g, f"motions.{default.name}.pga", used)
-    time_scale = float(_pick(choices.time_scale, cfg.motion.time_scale, "motion.time_scale", used))
-    motion = scaled_motion(argument, choices.units, time_scale, pga, key=choices.key("motion"))
+    time_scale = float(1.0 if time_scale is None else time_scale)
+    motion = scaled_motion(
+        argument, choices.motion_units, time_scale, pga, choices.key("motion"), choices.key("motion_units")
+    )
     if choices.duration is not None:
         length = quantity(choices.key("duration"), choices.duration, "second", "positive")
         if length < motion.duration:

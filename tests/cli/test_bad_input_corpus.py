@@ -215,6 +215,7 @@ MOTION_COMMANDS = {
 BAD_MOTIONS = {
     "csv empty": ("m.csv", ""),
     "csv header only": ("m.csv", "time,acc (g)\n"),
+    "csv no unit": ("m.csv", MOTION_CSV.replace("time,acc (g)\n", "")),
     "csv text value": ("m.csv", MOTION_CSV.replace("0.01", "abc")),
     "csv nan": ("m.csv", MOTION_CSV.replace("0.01", "nan")),
     "csv inf": ("m.csv", MOTION_CSV.replace("0.01", "inf")),
@@ -342,9 +343,9 @@ BAD_OPTIONS = {
         ("simulate", "--motion", "bogus", "--duration", "0.5", "-o", "r.h5"),
         "bogus",
     ),
-    "simulate --units parsec": (
-        ("simulate", "--units", "parsec", "--duration", "0.5", "-o", "r.h5"),
-        "units",
+    "simulate --motion-units parsec": (
+        ("simulate", "--motion-units", "parsec", "--duration", "0.5", "-o", "r.h5"),
+        "--motion-units",
     ),
     "simulate --specimen-weight -1": (
         ("simulate", "--specimen", "rigid", "--specimen-weight", "-1", "--duration", "0.5", "-o", "r.h5"),
@@ -639,7 +640,6 @@ ACCEPTED = {
     "design --grid 1e9": "--grid (optimized design only) is not checked under the default method",
     "design --margin nan": "--margin (optimized design only) is not checked under the default method",
     "design --ripple-db nan": "--ripple-db (Chebyshev filter only) is not checked with the default filter",
-    "simulate --units parsec": "--units is not checked for a built-in motion, which ignores it",
 }
 #: Cases not run: they are accepted and run for minutes (findings, see the reasons).
 NOT_RUN = {

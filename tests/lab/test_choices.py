@@ -33,6 +33,44 @@ def test_a_chosen_value_is_not_listed():
     assert test.motion.motion.pga_g == pytest.approx(0.3, rel=1e-12)
 
 
+def test_a_chosen_motion_runs_as_recorded_and_only_the_default_is_time_compressed(tmp_path):
+    # A user's file: time scale 1 (its own 0.01 s interval), nothing listed from [motion].
+    rows = "\n".join(f"{0.01 * k:.2f},{0.1 * (k % 7)}" for k in range(400))
+    (tmp_path / "m.csv").write_text("time,accel[g]\n" + rows + "\n")
+    user = tracking_test(Choices(motion=str(tmp_path / "m.csv")))
+    assert user.motion.time_scale == 1.0 and user.motion.motion.time_step == pytest.approx(0.01, rel=1e-12)
+    assert not {"motion.time_scale", "motion.record"} & set(user.from_report)
+    # A chosen built-in record too (the report's seed itself, as recorded: dt 0.01 s).
+    seed = tracking_test(Choices(motion="elcentro", duration=2.0))
+    assert seed.motion.time_scale == 1.0 and "motion.time_scale" not in seed.from_report
+    assert seed.motion.motion.time_step == pytest.approx(0.01, rel=1e-12)
+    # The report's default motion takes [motion] time_scale, listed; an explicit one wins.
+    default = tracking_test(Choices(duration=2.0))
+    assert (
+        default.motion.time_scale
+        == report_config().motion.time_scale
+        == default.from_report["motion.time_scale"]
+    )
+    assert default.motion.motion.time_step == pytest.approx(
+        0.01 / report_config().motion.time_scale, rel=1e-12
+    )
+    chosen = tracking_test(Choices(motion=str(tmp_path / "m.csv"), time_scale=4.0))
+    assert chosen.motion.motion.time_step == pytest.approx(0.0025, rel=1e-12)
+
+
+def test_a_column_file_without_a_unit_needs_motion_units(tmp_path):
+    rows = "\n".join(f"{0.01 * k:.2f},{0.1 * (k % 7)}" for k in range(400))
+    (tmp_path / "m.csv").write_text(rows + "\n")
+    keys = {"motion_units": "--motion-units"}
+    with pytest.raises(ConfigError, match="^--motion-units: expected the unit of the accelerations of m.csv"):
+        tracking_test(Choices(motion=str(tmp_path / "m.csv"), keys=keys))
+    test = tracking_test(Choices(motion=str(tmp_path / "m.csv"), motion_units="m/s**2", keys=keys))
+    # 0.6 m/s^2 peak = 0.6 / 9.80665 g (exact conversion).
+    assert test.motion.motion.pga_g == pytest.approx(0.6 / 9.80665, rel=1e-12)
+    with pytest.raises(ConfigError, match="^--motion-units"):
+        tracking_test(Choices(motion_units="parsec", keys=keys))  # refused for the built-in motion too
+
+
 def test_ratings_a_table_file_leaves_out_are_the_reports_and_listed(tmp_path):
     text = default_table_path().read_text().replace('supply_pressure = "3000 psi"', "")
     (tmp_path / "t.toml").write_text(text)
