@@ -36,7 +36,7 @@ import typer
 from ..config import parse_overrides
 from ..errors import ConfigError
 from ..lab.choices import Choices, frf_test, mil_test, tracking_test
-from ..lab.descriptions import FRF_DELAYS, REQUIRED_CONSTRAINTS, FrfTest, TrackingTest, parse_required
+from ..lab.descriptions import FRF_DELAYS, REQUIRED_CONSTRAINTS, FrfTest, MilTest, TrackingTest, parse_required
 from ..lab.experiments import ControlledRun
 from ..lab.pretest import Pretest
 from ..lab.runfile import MODEL_LOOP, write_run_file
@@ -155,6 +155,8 @@ def check(outcome: Outcome, *, force: bool, required: tuple[str, ...] = REQUIRED
     outcome.pre = test.pretest()
     outcome.warnings = refuse_or_warn(outcome.pre.findings(test.motion.motion, test.motion.time_scale), force)
     outcome.warnings += test.check_design(required, force)
+    if isinstance(test, MilTest):
+        outcome.warnings += list(test.vs_spec.notes)
 
 
 def perform(outcome: Outcome, out: Path, report: Path | None, *, quiet: bool) -> Outcome:

@@ -29,7 +29,7 @@ from ..plant import TableParameters
 from ..plant.parameters import ratings_from_report, table_mapping
 from ..report_config import ReportConfig, report_config
 from ..signals.sources import scaled_motion
-from ..specimens import RigidMass, specimen_from_config
+from ..specimens import FluidVessel, RigidMass, specimen_from_config
 from ..virtual.files import resolve
 from .descriptions import (
     ControllerChoice,
@@ -166,6 +166,21 @@ def choose_specimen(
     return _specimen_file(Path(text), choices.key("specimen"))
 
 
+def article_weight(specimen: SpecimenChoice, cfg: ReportConfig, used: dict) -> float:
+    """The weight [lbf] of the article a VS preset carries: the specimen's.
+
+    The report's own article (its vessel at its water depth) weighs what the
+    report says (``specimen.article_weight``, Tables 9.1-9.3: listed in
+    ``used``), so that the report's runs are unchanged; any other specimen
+    weighs what its model weighs (0 for the bare table).
+    """
+    report_vessel = cfg.specimen.kind == "vessel" and specimen.specimen == FluidVessel(cfg.specimen.water_depth_in)
+    if report_vessel:
+        used["specimen.article_weight"] = cfg.specimen.article_weight_lbf
+        return cfg.specimen.article_weight_lbf
+    return float(specimen.weight_lbf)
+
+
 def _specimen_file(path: Path, key: str) -> SpecimenChoice:
     if not path.is_file():
         raise ConfigError(
@@ -254,7 +269,8 @@ def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any
     )
     if mil:
         name = _pick(choices.vs, cfg.vs_preset, "vs.preset", used)
-        parts["vs_spec"] = resolve(name, choices.vs_overrides)
+        weight = article_weight(parts["specimen"], cfg, used)
+        parts["vs_spec"] = resolve(name, choices.vs_overrides, weight)
     return parts
 
 

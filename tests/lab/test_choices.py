@@ -9,6 +9,8 @@ from impedance_mil.lab.choices import Choices, frf_test, mil_test, tracking_test
 from impedance_mil.lab.feedback import Feedback
 from impedance_mil.plant import TableParameters, default_table_path
 from impedance_mil.report_config import report_config
+from impedance_mil.units import G0
+from impedance_mil.virtual import presets
 
 
 def test_every_value_nobody_chose_comes_from_the_report_and_is_listed():
@@ -103,3 +105,27 @@ def test_one_feedback_vocabulary_and_the_old_spellings():
     assert (Feedback.FORCE_EQUILIBRIUM.channel, Feedback.LOAD_CELLS.compensates) == ("fe", True)
     with pytest.raises(ConfigError, match="--feedback"):
         Feedback.parse("none", "--feedback", allow_none=False)
+
+
+def test_a_preset_carries_the_specimen_actually_used():
+    # The FP's axial load W = m_vs g + w_ps (Eq 5-9b, Figure 7.11) follows a 20,000 lb rigid article;
+    # k_s stays the preset's (Table 9.3: from T_s with the report's article), and the run says so.
+    cfg = report_config()
+    heavy = mil_test(Choices(vs="FP2", specimen="rigid", specimen_weight="20000 lbf", duration=1.0))
+    values, preset = heavy.vs_spec.vs.to_dict(), presets.get("FP2").to_dict()
+    assert values["w_ps"] == 20000.0 and values["W"] == pytest.approx(preset["m_vs"] * G0 + 20000.0, rel=1e-12)
+    assert values["k_s"] == preset["k_s"]
+    (note,) = heavy.vs_spec.notes
+    assert f"{cfg.specimen.article_weight_lbf:g} lbf" in note and "20000 lbf" in note and "w_ps" in note
+    assert heavy.pretest().basemat is not None  # no longer refused over the report's 3600 lbf
+    # The report's own article (its vessel at 36 in) weighs the report's 3600 lbf: the preset is unchanged.
+    report = mil_test(Choices(vs="FP2", duration=1.0))
+    assert report.vs_spec.vs.to_dict() == preset and report.vs_spec.notes == ()
+    assert report.from_report["specimen.article_weight"] == cfg.specimen.article_weight_lbf
+    # A type without an axial load (SD) keeps its parameters; its targets' article is named.
+    bare = mil_test(Choices(vs="SD2", specimen="none", duration=1.0))
+    assert bare.vs_spec.vs.to_dict() == presets.get("SD2").to_dict()
+    assert "weighs 0 lbf" in bare.vs_spec.notes[0] and "axial" not in bare.vs_spec.notes[0]
+    # A w_ps the user sets is kept, without a note.
+    chosen = mil_test(Choices(vs="FP2", specimen="rigid", specimen_weight=2000, vs_overrides={"w_ps": 2500}))
+    assert chosen.vs_spec.vs.to_dict()["w_ps"] == 2500.0 and chosen.vs_spec.notes == ()
