@@ -36,7 +36,14 @@ import typer
 from ..config import parse_overrides
 from ..errors import ConfigError
 from ..lab.choices import Choices, frf_test, mil_test, tracking_test
-from ..lab.descriptions import FRF_DELAYS, REQUIRED_CONSTRAINTS, FrfTest, MilTest, TrackingTest, parse_required
+from ..lab.descriptions import (
+    FRF_DELAYS,
+    REQUIRED_CONSTRAINTS,
+    FrfTest,
+    MilTest,
+    TrackingTest,
+    parse_required,
+)
 from ..lab.experiments import ControlledRun
 from ..lab.pretest import Pretest
 from ..lab.runfile import MODEL_LOOP, write_run_file

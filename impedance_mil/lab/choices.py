@@ -174,7 +174,9 @@ def article_weight(specimen: SpecimenChoice, cfg: ReportConfig, used: dict) -> f
     ``used``), so that the report's runs are unchanged; any other specimen
     weighs what its model weighs (0 for the bare table).
     """
-    report_vessel = cfg.specimen.kind == "vessel" and specimen.specimen == FluidVessel(cfg.specimen.water_depth_in)
+    report_vessel = cfg.specimen.kind == "vessel" and specimen.specimen == FluidVessel(
+        cfg.specimen.water_depth_in
+    )
     if report_vessel:
         used["specimen.article_weight"] = cfg.specimen.article_weight_lbf
         return cfg.specimen.article_weight_lbf

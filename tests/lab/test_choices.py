@@ -113,7 +113,9 @@ def test_a_preset_carries_the_specimen_actually_used():
     cfg = report_config()
     heavy = mil_test(Choices(vs="FP2", specimen="rigid", specimen_weight="20000 lbf", duration=1.0))
     values, preset = heavy.vs_spec.vs.to_dict(), presets.get("FP2").to_dict()
-    assert values["w_ps"] == 20000.0 and values["W"] == pytest.approx(preset["m_vs"] * G0 + 20000.0, rel=1e-12)
+    assert values["w_ps"] == 20000.0 and values["W"] == pytest.approx(
+        preset["m_vs"] * G0 + 20000.0, rel=1e-12
+    )
     assert values["k_s"] == preset["k_s"]
     (note,) = heavy.vs_spec.notes
     assert f"{cfg.specimen.article_weight_lbf:g} lbf" in note and "20000 lbf" in note and "w_ps" in note
