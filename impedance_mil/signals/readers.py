@@ -56,8 +56,9 @@ _SPLIT_RE = re.compile(r"[,;\s]+")
 _OTHER_UNITS_RE = re.compile(r"CM/S|M/S|MM/S|IN/S|FT/S|GAL", re.IGNORECASE)
 # "# units: m/s**2" (or "unit = g") in a comment line of a column file.
 _UNITS_COMMENT_RE = re.compile(r"^#\s*units?\s*[:=]\s*(\S.*?)\s*$", re.IGNORECASE)
-# The acceleration column's name with its unit: accel[g], acc (g), accel_m/s**2.
-_UNITS_HEADER_RE = re.compile(r"\bacc[a-z]*\s*(?:[\[(]\s*([^\])]+?)\s*[\])]|_([^\s,;]+))", re.IGNORECASE)
+# A column name with its unit in brackets: accel[g], acc (g).
+_BRACKET_UNIT_RE = re.compile(r"[\[(]\s*([^\])]+?)\s*[\])]\s*$")
+_HEADER_SPLIT_RE = re.compile(r"\s*[,;\t]\s*")
 
 
 @dataclass(frozen=True)
@@ -216,9 +217,10 @@ def stated_units(path: Path, lines: list[str]) -> str | None:
     """The acceleration unit a column file states before its data, or None.
 
     Read from a comment ``# units: m/s**2`` (or ``# unit = g``) or from the
-    header naming the acceleration column: ``accel[g]``, ``acc (g)``,
-    ``accel_m/s**2`` (as :func:`write_columns` writes it).  A header whose
-    suffix is no acceleration unit (``accel_m_s2``) states none.
+    header naming the acceleration column (the last): ``accel[g]``, ``acc (g)``,
+    ``accel_m/s**2`` (as :func:`write_columns` writes it), ``a_g_g`` (as
+    ``imil drive motion`` writes it).  A name whose suffix is no acceleration
+    unit (``accel_m_s2``) states none.
 
     Raises
     ------
@@ -241,14 +243,31 @@ def stated_units(path: Path, lines: list[str]) -> str | None:
                     path, f"line {number} states {comment.group(1)!r}: not an acceleration unit"
                 ) from None
             return comment.group(1)
-        header = None if stripped.startswith("#") else _UNITS_HEADER_RE.search(stripped)
-        if header:
-            text = header.group(1) or header.group(2)
-            try:
-                _unit_factor(text)
-            except ConfigError:
-                continue  # a column name such as accel_m_s2 is no unit: the file states none
-            return text
+        if not stripped.startswith("#"):
+            text = _header_unit(stripped)
+            if text is not None:
+                return text
+    return None
+
+
+def _header_unit(line: str) -> str | None:
+    """The acceleration unit in the name of a header's last column (``accel[g]``, ``a_g_g``), or None.
+
+    The unit is in brackets or after an underscore (the shortest suffix that
+    is an acceleration unit); a name such as ``accel_m_s2`` states none.
+    """
+    fields = [f for f in _HEADER_SPLIT_RE.split(line) if f]
+    name = fields[-1] if len(fields) > 1 else line
+    bracket = _BRACKET_UNIT_RE.search(name)
+    candidates = [bracket.group(1)] if bracket else []
+    parts = name.split("_")
+    candidates += ["_".join(parts[k:]) for k in range(1, len(parts))]
+    for text in candidates:
+        try:
+            _unit_factor(text)
+        except ConfigError:
+            continue
+        return text
     return None
 
 

@@ -160,6 +160,7 @@ def test_bad_units(tmp_path):
         ("time_s,accel_cm/s**2\n", "cm/s**2"),
         ("# units: m/s**2\ntime,accel\n", "m/s**2"),
         ("# unit = g\n", "g"),
+        ("time_s,a_g_g\n", "g"),  # as imil drive motion writes it: <channel>_<unit>
     ],
 )
 def test_columns_stated_unit_is_used(tmp_path, head, unit):
