@@ -21,7 +21,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from ..config import quantity, read_toml
 from ..errors import ConfigError, DataFileError
@@ -271,7 +271,7 @@ def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any
     )
     if mil:
         name = _pick(choices.vs, cfg.vs_preset, "vs.preset", used)
-        weight = article_weight(parts["specimen"], cfg, used)
+        weight = article_weight(cast(SpecimenChoice, parts["specimen"]), cfg, used)
         parts["vs_spec"] = resolve(name, choices.vs_overrides, weight)
     return parts
 
