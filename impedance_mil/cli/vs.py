@@ -24,6 +24,7 @@ from ..virtual.files import VSSpec, resolve
 from ..virtual.files import describe as describe_spec
 from .common import console, print_json
 from .motion import UNITS_HELP, load_motion
+from .runopts import err_console
 
 app = typer.Typer(
     help="Virtual isolation systems: presets, properties, force-displacement loops.", no_args_is_help=True
@@ -120,18 +121,22 @@ def loops(
     """Force-displacement loops of one or more VS for a harmonic or recorded ground motion."""
     target = check_figure_path(output)
     step = quantity("--dt", dt if dt is not None else report_loop_time(), "second", "positive")
-    specs = [_spec(name, sets) for name in vs]
+    weight = (
+        None
+        if article_weight is None
+        else quantity("--article-weight", article_weight, "force_pound", "nonnegative")
+    )
+    # A preset carries the article given (its axial load: FP's w_ps), as in a run.
+    specs = [resolve(name, parse_overrides(sets), weight) for name in vs]
     if motion is not None:
         loop_input = recorded_input(load_motion(motion, motion_units, pga=pga), step, motion)
     else:
         amp = quantity("--amplitude", amplitude, "inch / second**2", "positive")
         freq = quantity("--frequency", frequency, "hertz", "positive")
         loop_input = harmonic_input(amp, freq, cycles, step)
-    weight = (
-        None
-        if article_weight is None
-        else quantity("--article-weight", article_weight, "force_pound", "nonnegative")
-    )
+    for spec in specs:
+        for note in spec.notes:
+            err_console.print(f"imil: note: {note}", markup=False)
     loops = vs_loops(specs, loop_input, weight)
     responses = [loop.response for loop in loops]
     labels = [loop.spec.name for loop in loops]
