@@ -137,7 +137,7 @@ def multisine(
 @app.command("motion")
 def motion(
     source: str = typer.Argument(..., help=SOURCE_HELP),
-    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     table: Path | None = TableOpt,
@@ -156,7 +156,7 @@ def motion(
     """A ground motion as played: scaled, resampled to the loop rate, baseline-corrected, checked."""
     folder = _folder(output)
     params = table_parameters(table, sets)
-    record = scaled_motion(source, units, time_scale, pga, key="SOURCE")
+    record = scaled_motion(source, motion_units, time_scale, pga, "SOURCE", "--motion-units")
     played = record.resampled(params.loop_time).baseline_corrected()
     interlocks = SafetyLimits(stroke=_REPORT.limits.stroke_in, velocity=_REPORT.limits.velocity_in_s)
     spec = None if vs is None else resolve(vs)

@@ -53,16 +53,19 @@ SOURCE_HELP = (
     + ", ".join(BUILTIN_MOTIONS)
     + "), fema:SET:RECORDCOMPONENT (fema:farfield:14a), or a file."
 )
-UNITS_HELP = "Unit of the accelerations of a column file (g, m/s**2, cm/s**2, in/s**2 ...)."
+UNITS_HELP = (
+    "Unit of the accelerations of a column file that states none (g, m/s**2, cm/s**2, in/s**2 ...): "
+    "required for such a file; AT2 files and the built-in records are in g."
+)
 TIME_SCALE_HELP = "Compress time by this factor first (t' = t/F, same accelerations; report uses 2)."
 PGA_HELP = "Then amplitude-scale to this peak ground acceleration [g]."
 
 
 def load_motion(
-    source: str, units: str = "g", time_scale: float | None = None, pga: float | None = None
+    source: str, motion_units: str | None = None, time_scale: float | None = None, pga: float | None = None
 ) -> GroundMotion:
     """SOURCE with the time and amplitude scaling, in that order (``signals.sources.scaled_motion``)."""
-    return scaled_motion(source, units, time_scale, pga, key="SOURCE")
+    return scaled_motion(source, motion_units, time_scale, pga, "SOURCE", "--motion-units")
 
 
 def parse_periods(text: str | None) -> np.ndarray:
@@ -92,13 +95,13 @@ def list_motions() -> None:
 @app.command("info")
 def info(
     source: str = typer.Argument(..., help=SOURCE_HELP),
-    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     as_json: bool = typer.Option(False, "--json", help="Print JSON."),
 ) -> None:
     """Number of points, sample interval, duration, PGA, PGV and PGD (after baseline correction)."""
-    data = motion_summary(load_motion(source, units, time_scale, pga))
+    data = motion_summary(load_motion(source, motion_units, time_scale, pga))
     if as_json:
         print_json(data)
         return
@@ -124,7 +127,7 @@ def spectrum(
     periods: str | None = typer.Option(
         None, "--periods", help="Periods [s]: '0.02,0.1,1' or 'log:0.01:10:100'."
     ),
-    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     output: Path | None = typer.Option(None, "-o", "--output", help="Write a plot (png, pdf, svg ...)."),
@@ -133,7 +136,7 @@ def spectrum(
     """Pseudo-acceleration response spectrum, exact for piecewise-linear input (report Figure 8.1)."""
     if output is not None:
         check_figure_path(output)
-    motion = load_motion(source, units, time_scale, pga)
+    motion = load_motion(source, motion_units, time_scale, pga)
     spec = response_spectrum(motion.accel, motion.time_step, parse_periods(periods), damping)
     if output is not None:
         save_figure(plot_spectra([spec], [motion.name], title=f"{motion.name}"), output)
@@ -188,14 +191,14 @@ def check(
     force_limit: float | None = typer.Option(
         None, "--force-limit", help="Force capacity [lbf]; default A_p (P_s - P_R). Actuator rating: 5500."
     ),
-    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     as_json: bool = typer.Option(False, "--json", help="Print JSON."),
 ) -> None:
     """Check stroke, velocity, force and valve flow before a test; exit 1 if a limit is exceeded."""
     limits = _limits(table, overrides, specimen_weight, force_limit, lab)
-    motion = load_motion(source, units, time_scale, pga)
+    motion = load_motion(source, motion_units, time_scale, pga)
     result = check_motion(motion, limits)
     applied = time_scale if time_scale is not None else 1.0
     total = None if result.suggested_time_scale is None else applied * result.suggested_time_scale
@@ -245,13 +248,13 @@ def _print_check(motion, limits, result, total) -> None:
 def plot(
     source: str = typer.Argument(..., help=SOURCE_HELP),
     output: Path = typer.Option(..., "-o", "--output", help="Image file (png, pdf, svg ...)."),
-    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
 ) -> None:
     """Plot displacement, velocity and acceleration histories (baseline-corrected)."""
     check_figure_path(output)
-    motion = load_motion(source, units, time_scale, pga)
+    motion = load_motion(source, motion_units, time_scale, pga)
     save_figure(plot_histories(motion), output)
     console.print(f"wrote {output}")
 
@@ -267,14 +270,14 @@ def export(
         True, "--baseline/--no-baseline", help="Baseline-correct (cubic, ends at rest) after resampling."
     ),
     out_units: str = typer.Option("g", "--out-units", help="Unit of the written accelerations."),
-    units: str = typer.Option("g", "--units", help=UNITS_HELP),
+    motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
 ) -> None:
     """Write the motion as it will be run: scaled, resampled to the loop rate, baseline-corrected."""
     if not output.parent.is_dir():
         raise ConfigError("-o", "a path in an existing folder", str(output))
-    motion = load_motion(source, units, time_scale, pga)
+    motion = load_motion(source, motion_units, time_scale, pga)
     if dt is not None:
         motion = motion.resampled(dt)
     if baseline:

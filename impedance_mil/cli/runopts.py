@@ -65,6 +65,7 @@ CHOICE_OPTIONS = {
     "water_depth": "--water-depth",
     "specimen_weight": "--specimen-weight",
     "motion": "--motion",
+    "motion_units": "--motion-units",
     "duration": "--duration",
     "fc_hz": "--fc",
     "feedback": "--feedback",

@@ -36,7 +36,14 @@ import typer
 from ..config import parse_overrides
 from ..errors import ConfigError
 from ..lab.choices import Choices, frf_test, mil_test, tracking_test
-from ..lab.descriptions import FRF_DELAYS, REQUIRED_CONSTRAINTS, FrfTest, TrackingTest, parse_required
+from ..lab.descriptions import (
+    FRF_DELAYS,
+    REQUIRED_CONSTRAINTS,
+    FrfTest,
+    MilTest,
+    TrackingTest,
+    parse_required,
+)
 from ..lab.experiments import ControlledRun
 from ..lab.pretest import Pretest
 from ..lab.results import RUN_FILE_SUFFIXES
@@ -94,11 +101,12 @@ MotionOpt = typer.Option(
     "--motion",
     help=SOURCE_HELP + f" Default the report's {_GM.name}: {_GM.builtin_substitute} (RSN {_GM.rsn}).",
 )
-UnitsOpt = typer.Option("g", "--units", help=UNITS_HELP)
+MotionUnitsOpt = typer.Option(None, "--motion-units", help=UNITS_HELP)
 TimeScaleOpt = typer.Option(
     None,
     "--time-scale",
-    help=f"Compress time by this factor (t' = t/F; default the report's {_REPORT.motion.time_scale:g}, Section 8.2).",
+    help=f"Compress time by this factor (t' = t/F); default the report's {_REPORT.motion.time_scale:g} "
+    f"for the report's {_GM.name} (no --motion, Section 8.2), else 1 (the motion as recorded).",
 )
 PgaOpt = typer.Option(
     None,
@@ -164,6 +172,8 @@ def check(outcome: Outcome, *, force: bool, required: tuple[str, ...] = REQUIRED
     outcome.pre = test.pretest()
     outcome.warnings = refuse_or_warn(outcome.pre.findings(test.motion.motion, test.motion.time_scale), force)
     outcome.warnings += test.check_design(required, force)
+    if isinstance(test, MilTest):
+        outcome.warnings += list(test.vs_spec.notes)
 
 
 def perform(outcome: Outcome, out: Path, report: Path | None, *, quiet: bool) -> Outcome:
@@ -299,7 +309,7 @@ def simulate(
     sets: list[str] | None = SetOpt,
     sets_vs: list[str] | None = typer.Option(None, "--set-vs", help="VS value KEY=VALUE (repeatable)."),
     motion: str | None = MotionOpt,
-    units: str = UnitsOpt,
+    motion_units: str | None = MotionUnitsOpt,
     time_scale: float | None = TimeScaleOpt,
     pga: float | None = PgaOpt,
     duration: float | None = DurationOpt,
@@ -331,7 +341,7 @@ def simulate(
             specimen_weight=specimen_weight,
             sets_vs=sets_vs,
             motion=motion,
-            units=units,
+            motion_units=motion_units,
             time_scale=time_scale,
             pga_g=pga,
             duration=duration,
@@ -352,7 +362,7 @@ def track(
     specimen_weight: str | None = WeightOpt,
     sets: list[str] | None = SetOpt,
     motion: str | None = MotionOpt,
-    units: str = UnitsOpt,
+    motion_units: str | None = MotionUnitsOpt,
     time_scale: float | None = TimeScaleOpt,
     pga: float | None = PgaOpt,
     duration: float | None = DurationOpt,
@@ -382,7 +392,7 @@ def track(
             water_depth=water_depth,
             specimen_weight=specimen_weight,
             motion=motion,
-            units=units,
+            motion_units=motion_units,
             time_scale=time_scale,
             pga_g=pga,
             duration=duration,

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import typer
 
-from ..plant import LinearTable
+from ..plant import LinearTable, TableParameters
 from ..plant.tuning import pole_summary, tuning_summary
 from ..report import table_plots
 from ..report.motion_plots import check_figure_path
@@ -156,8 +156,13 @@ def tune(
     set: list[str] | None = SetOpt,
     json: bool = JsonOpt,
 ) -> None:
-    """Stability limits, break-away points and the K_p maximizing oil-column damping."""
-    data = tuning_summary(table_parameters(table, set, lab))
+    """Stability limits, break-away points and the K_p maximizing oil-column damping.
+
+    The report's figures (Section 4.4) are printed for comparison only when the
+    table, after ``--set``, is the report's (Table 4.1), whatever file holds it.
+    """
+    params = table_parameters(table, set, lab)
+    data = tuning_summary(params)
     if json:
         print_json(data)
         return
@@ -166,7 +171,8 @@ def tune(
     for key, value in data.items():
         if key != "stable":
             _say(f"{key:34s} {fmt.get(value, value) if value is None else f'{value:.6g}'}")
-    _say(
-        "(report Section 4.4: Ke 6.7 V/in, Kp > 0.0035 V/psi, break-away Ke 39.3 / "
-        "Kp 0.0006; model optimum K_p differs from the printed 0.001, see docs/errata.md)"
-    )
+    if params == TableParameters.report_default():
+        _say(
+            "(report Section 4.4: Ke 6.7 V/in, Kp > 0.0035 V/psi, break-away Ke 39.3 / "
+            "Kp 0.0006; model optimum K_p differs from the printed 0.001, see docs/errata.md)"
+        )

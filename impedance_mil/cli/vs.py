@@ -23,7 +23,8 @@ from ..virtual import presets
 from ..virtual.files import VSSpec, resolve
 from ..virtual.files import describe as describe_spec
 from .common import console, print_json
-from .motion import load_motion
+from .motion import UNITS_HELP, load_motion
+from .runopts import err_console
 
 app = typer.Typer(
     help="Virtual isolation systems: presets, properties, force-displacement loops.", no_args_is_help=True
@@ -104,6 +105,7 @@ def loops(
         help="Recorded ground motion instead of the harmonic input: built-in name or file (see imil motion).",
     ),
     pga: float | None = typer.Option(None, help="Scale the recorded motion to this PGA [g]."),
+    motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     article_weight: str | None = typer.Option(
         None,
         help="Weight of the rigid test article on the basemat (default: the VS's w_ps, else the report's "
@@ -119,18 +121,22 @@ def loops(
     """Force-displacement loops of one or more VS for a harmonic or recorded ground motion."""
     target = check_figure_path(output)
     step = quantity("--dt", dt if dt is not None else report_loop_time(), "second", "positive")
-    specs = [_spec(name, sets) for name in vs]
-    if motion is not None:
-        loop_input = recorded_input(load_motion(motion, pga=pga), step, motion)
-    else:
-        amp = quantity("--amplitude", amplitude, "inch / second**2", "positive")
-        freq = quantity("--frequency", frequency, "hertz", "positive")
-        loop_input = harmonic_input(amp, freq, cycles, step)
     weight = (
         None
         if article_weight is None
         else quantity("--article-weight", article_weight, "force_pound", "nonnegative")
     )
+    # A preset carries the article given (its axial load: FP's w_ps), as in a run.
+    specs = [resolve(name, parse_overrides(sets), weight) for name in vs]
+    if motion is not None:
+        loop_input = recorded_input(load_motion(motion, motion_units, pga=pga), step, motion)
+    else:
+        amp = quantity("--amplitude", amplitude, "inch / second**2", "positive")
+        freq = quantity("--frequency", frequency, "hertz", "positive")
+        loop_input = harmonic_input(amp, freq, cycles, step)
+    for spec in specs:
+        for note in spec.notes:
+            err_console.print(f"imil: note: {note}", markup=False)
     loops = vs_loops(specs, loop_input, weight)
     responses = [loop.response for loop in loops]
     labels = [loop.spec.name for loop in loops]

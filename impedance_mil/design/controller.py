@@ -43,6 +43,7 @@ from .forms import (
     imaginary_axis,
     right_half_plane,
 )
+from .sampling import implementable_fc
 
 
 @dataclass(frozen=True)
@@ -433,9 +434,9 @@ def _warnings_for(
     table: TableModel, fc_hz: float, fc_w_hz: float | None, results: list[ConstraintResult], no_vs: bool
 ) -> list[str]:
     notes = []
-    nyq = table.nyquist_hz if table.loop_time_s > 0 else np.inf  # no Nyquist limit for an analog loop
+    nyq = table.nyquist_hz
     for name, fc in (("fc", fc_hz), ("fc_w", fc_w_hz)):
-        if fc is not None and fc >= nyq:
+        if fc is not None and not implementable_fc(fc, table.loop_time_s):
             notes.append(
                 f"{name} = {fc:g} Hz is at or above the Nyquist frequency {nyq:g} Hz of the "
                 f"{table.loop_time_s * 1e6:g} us loop: valid for continuous-time analysis only; "

@@ -16,12 +16,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ImilError
+from ..errors import ConfigError, ImilError
 from ..systems import TransferFunction
 from .constraints import ConstraintResult, DesignCriteria
 from .controller import design_at_fc, report_design_choices
 from .coupled import CoupledStability, coupled_stability
 from .forms import TableModel, VirtualModel, environment, ideal_controller
+from .sampling import implementable_fc
 
 #: Default grid of cut-offs [Hz]: 30 log-spaced points from 20 Hz to the Nyquist frequency.
 DEFAULT_FC_POINTS = 30
@@ -210,7 +211,9 @@ def choose_fc(
 ) -> FcChoice:
     """Choose the cut-off automatically (``imil design --fc auto``).
 
-    Among the feasible cut-offs, the one that balances the two opposing
+    Only grid cut-offs that the implementation accepts are candidates
+    (:func:`~impedance_mil.design.sampling.implementable_fc`: below the
+    Nyquist frequency, the rule ``imil export`` applies).  Among the feasible cut-offs, the one that balances the two opposing
     constraints: it maximises ``min(log(e_I,max/e_I), log(e_II,max/e_II))``,
     the smaller of the relative slacks of performance (which wants a high
     f_c) and control effort (which wants a low one).  When no cut-off is
@@ -224,7 +227,14 @@ def choose_fc(
     """
     c = criteria or DesignCriteria()
     scan = scan_fc(table, vs, fc_grid_hz, form=form, family=family, order=order, criteria=c)
-    rs = scan.results
+    # Only a cut-off the implementation accepts (below the Nyquist frequency) is proposed.
+    rs = [r for r in scan.results if implementable_fc(r.fc_hz, table.loop_time_s)]
+    if not rs:
+        raise ConfigError(
+            "fc_grid_hz",
+            f"a cut-off below the Nyquist frequency {table.nyquist_hz:g} Hz of the loop",
+            f"{scan.results[0].fc_hz:.4g}-{scan.results[-1].fc_hz:.4g} Hz",
+        )
 
     def balance(r: ConstraintResult) -> float:
         s1 = np.log(c.performance_max / max(r.performance_error, 1e-300))
@@ -236,7 +246,7 @@ def choose_fc(
         best = max(feasible, key=balance)
         lo, hi = scan.feasible_fc_hz
         reasons = (
-            f"constraints I, II, III hold for fc in [{lo:.4g}, {hi:.4g}] Hz on a {len(rs)}-point grid",
+            f"constraints I, II, III hold for fc in [{lo:.4g}, {hi:.4g}] Hz on a {len(scan.results)}-point grid",
             f"fc = {best.fc_hz:.4g} Hz balances performance (error {best.performance_error:.3f} of "
             f"{c.performance_max:.3f} allowed) against control effort (ratio {best.effort_ratio:.3g} of "
             f"{c.effort_ratio_max:.3g} allowed)",

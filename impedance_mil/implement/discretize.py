@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from ..design.sampling import check_implementable_fc
 from ..errors import ConfigError, UnstableDesignError
 from ..lti import StateSpace
 from ..systems import TransferFunction
@@ -280,13 +281,8 @@ def discretize(
         raise ConfigError("loop_time_s", "a positive loop time [s]", loop_time_s)
     nyquist = 0.5 / loop_time_s
     for key, f in (("fc_hz", fc_hz), ("prewarp_hz", prewarp_hz)):
-        if f is not None and not 0 < f < nyquist:
-            raise ConfigError(
-                key,
-                f"a frequency in (0, {nyquist:g}) Hz, below the Nyquist "
-                f"frequency of the {loop_time_s * 1e6:g} us loop",
-                f,
-            )
+        if f is not None:
+            check_implementable_fc(key, f, loop_time_s)
     if method not in METHODS:
         raise ConfigError("method", f"one of {', '.join(METHODS)}", method)
     if realization not in REALIZATIONS:

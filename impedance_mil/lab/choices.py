@@ -5,7 +5,8 @@ with units (``None``: not chosen).  :func:`tracking_test`, :func:`mil_test`
 and :func:`frf_test` resolve and validate every choice and take each value
 nobody chose from the report's setup (:func:`impedance_mil.report_config.report_config`):
 the table of Table 4.1, the vessel with 36 in of water (or the 3600 lbf
-article for a rigid mass), GM1 time-compressed by 2 at 0.8 g, f_c = 80 Hz,
+article for a rigid mass), GM1 time-compressed by 2 at 0.8 g (a chosen
+motion runs as recorded: time scale 1), f_c = 80 Hz,
 load-cell feedback, single precision, the interlocks and the substep policy.
 Each value so taken is listed in the description's ``from_report`` under its
 key in ``data/report/config.toml``.
@@ -20,7 +21,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from ..config import quantity, read_toml
 from ..errors import ConfigError, DataFileError
@@ -29,7 +30,7 @@ from ..plant.parameters import ratings_from_report, table_mapping
 from ..plausibility import check_specimen_weight
 from ..report_config import ReportConfig, report_config
 from ..signals.sources import scaled_motion
-from ..specimens import RigidMass, specimen_from_config
+from ..specimens import FluidVessel, RigidMass, specimen_from_config
 from ..virtual.files import resolve
 from .descriptions import (
     ControllerChoice,
@@ -66,8 +67,8 @@ class Choices:
         Water in the vessel [in]; weight of the rigid mass [lbf].
     motion : str or None
         Motion source (:mod:`impedance_mil.signals.sources`).
-    units : str
-        Unit of the accelerations of a column file.
+    motion_units : str or None
+        Unit of the accelerations of a column file that states none (required for such a file).
     time_scale : float or None
         Time compression (t' = t / factor).
     pga_g : float or None
@@ -95,7 +96,7 @@ class Choices:
     water_depth: Any = None
     specimen_weight: Any = None
     motion: str | None = None
-    units: str = "g"
+    motion_units: str | None = None
     time_scale: float | None = None
     pga_g: float | None = None
     duration: Any = None
@@ -171,6 +172,23 @@ def choose_specimen(
     return _specimen_file(Path(text), choices.key("specimen"))
 
 
+def article_weight(specimen: SpecimenChoice, cfg: ReportConfig, used: dict) -> float:
+    """The weight [lbf] of the article a VS preset carries: the specimen's.
+
+    The report's own article (its vessel at its water depth) weighs what the
+    report says (``specimen.article_weight``, Tables 9.1-9.3: listed in
+    ``used``), so that the report's runs are unchanged; any other specimen
+    weighs what its model weighs (0 for the bare table).
+    """
+    report_vessel = cfg.specimen.kind == "vessel" and specimen.specimen == FluidVessel(
+        cfg.specimen.water_depth_in
+    )
+    if report_vessel:
+        used["specimen.article_weight"] = cfg.specimen.article_weight_lbf
+        return cfg.specimen.article_weight_lbf
+    return float(specimen.weight_lbf)
+
+
 def _specimen_file(path: Path, key: str) -> SpecimenChoice:
     if not path.is_file():
         raise ConfigError(
@@ -191,21 +209,29 @@ def _specimen_file(path: Path, key: str) -> SpecimenChoice:
 def choose_motion(choices: Choices, cfg: ReportConfig, used: dict) -> MotionChoice:
     """Resolve the motion: the report's (GM1, built in) unless chosen; time compression, PGA and length.
 
-    The PGA of Table 8.1 applies to the default motion's record when no PGA is
-    chosen; any other motion runs at its recorded PGA unless ``pga_g`` is given.
+    Only the report's own default motion (no motion chosen) takes the report's
+    time compression (``motion.time_scale``, listed in ``from_report``); a
+    chosen motion runs as recorded (time scale 1) unless ``time_scale`` is
+    given.  The PGA of Table 8.1 applies to the default motion's record when no
+    PGA is chosen; any other motion runs at its recorded PGA unless ``pga_g``
+    is given.
     A ``duration`` [s] keeps the motion's first seconds; one longer than the
     (scaled) motion by more than a time step is refused, not silently cut to it.
     """
     default = cfg.default_motion
     argument = choices.motion
+    time_scale = choices.time_scale
     if argument is None:
         used["motion.record"] = default.name
         argument = default.builtin_substitute
+        time_scale = _pick(time_scale, cfg.motion.time_scale, "motion.time_scale", used)
     pga = choices.pga_g
     if pga is None and argument.strip().lower() == default.builtin_substitute:
         pga = _pick(None, default.pga_scaled_g, f"motions.{default.name}.pga", used)
-    time_scale = float(_pick(choices.time_scale, cfg.motion.time_scale, "motion.time_scale", used))
-    motion = scaled_motion(argument, choices.units, time_scale, pga, key=choices.key("motion"))
+    time_scale = float(1.0 if time_scale is None else time_scale)
+    motion = scaled_motion(
+        argument, choices.motion_units, time_scale, pga, choices.key("motion"), choices.key("motion_units")
+    )
     if choices.duration is not None:
         length = quantity(choices.key("duration"), choices.duration, "second", "positive")
         if length > motion.duration + motion.time_step:
@@ -251,6 +277,9 @@ def lab_choice(setup: LabSetup, seed: int, used: dict, key: str = "seed") -> Lab
     """The interlocks, sensors and substeps of a lab file; its generic defaults listed in ``used``."""
     for name in setup.defaults:
         used[f"lab.{name}"] = "generic default"
+    for name, source in setup.sources.items():
+        if source == "report":
+            used[name] = getattr(setup.table, name.removeprefix("table."))
     try:
         return LabChoice(
             setup.limits,
@@ -308,7 +337,8 @@ def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any
     )
     if mil:
         name = _pick(choices.vs, cfg.vs_preset, "vs.preset", used)
-        parts["vs_spec"] = resolve(name, choices.vs_overrides)
+        weight = article_weight(cast(SpecimenChoice, parts["specimen"]), cfg, used)
+        parts["vs_spec"] = resolve(name, choices.vs_overrides, weight)
     return parts
 
 

@@ -31,7 +31,7 @@ from ..config import Field, parse_fields, quantity, read_toml
 from ..errors import ConfigError
 from ..plant import TableParameters
 from ..plant.nonlinear import NonlinearTable
-from ..plant.parameters import merge_overrides, table_mapping
+from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .labsensors import Converter, SensorSetup, sensor_setup
 from .setup import SafetyLimits
@@ -315,6 +315,8 @@ def _table(
     keys.update(table)
     for key in overrides:
         sources[f"table.{key}"] = "--set"
+    for key in ratings_from_report({**keys, **overrides}):
+        sources[f"table.{key}"] = "report"  # a valve or pressure rating the table file leaves out
     return TableParameters.from_mapping(merge_overrides(keys, overrides), where=f"{where}table.")
 
 

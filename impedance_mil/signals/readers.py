@@ -18,7 +18,10 @@ Two-column text or CSV
     interval from the straight line through the first and last times, else the
     file is refused (resample it yourself: we do not guess).  A record that
     starts at t0 != 0 is shifted to start at 0.  The unit of the accelerations
-    is an option (default g).
+    is the one the file states (:func:`stated_units`: a comment ``# units:
+    m/s**2`` or a header such as ``accel[g]``, ``acc (g)``, ``accel_g``), else
+    the one the caller gives; a file that states none, read without a unit,
+    is refused (we do not guess g).
 
 Every malformed file raises :class:`~impedance_mil.errors.DataFileError`
 naming the file and the problem.
@@ -51,6 +54,11 @@ _DT_RE = re.compile(r"DT\s*=\s*([-+0-9.EeDd]+)", re.IGNORECASE)
 _NUMBER_RE = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[EeDd][-+]?[0-9]+)?")
 _SPLIT_RE = re.compile(r"[,;\s]+")
 _OTHER_UNITS_RE = re.compile(r"CM/S|M/S|MM/S|IN/S|FT/S|GAL", re.IGNORECASE)
+# "# units: m/s**2" (or "unit = g") in a comment line of a column file.
+_UNITS_COMMENT_RE = re.compile(r"^#\s*units?\s*[:=]\s*(\S.*?)\s*$", re.IGNORECASE)
+# A column name with its unit in brackets: accel[g], acc (g).
+_BRACKET_UNIT_RE = re.compile(r"[\[(]\s*([^\])]+?)\s*[\])]\s*$")
+_HEADER_SPLIT_RE = re.compile(r"\s*[,;\t]\s*")
 
 
 @dataclass(frozen=True)
@@ -185,12 +193,99 @@ def _looks_like_at2(lines: list[str]) -> bool:
     return len(lines) >= 4 and bool(_NPTS_RE.search(lines[3]))
 
 
-def _unit_factor(units: str) -> float:
-    """Factor from ``units`` to [in/s**2]; ``g`` means standard gravity here."""
+def _unit_factor(units: str, key: str = "units") -> float:
+    """Factor from ``units`` to [in/s**2]; ``g`` means standard gravity here (errors name ``key``)."""
     text = str(units).strip()
     if text.lower() in ("g", "g0"):
         return G0
-    return quantity("units", f"1 {text}", "inch / second**2", "positive")
+    return quantity(key, f"1 {text}", "inch / second**2", "positive")
+
+
+def check_units(units: str | None, key: str = "units") -> None:
+    """Refuse a ``units`` that is not an acceleration unit (None: not given, accepted).
+
+    Raises
+    ------
+    ConfigError
+        Naming ``key``.
+    """
+    if units is not None:
+        _unit_factor(units, key)
+
+
+def stated_units(path: Path, lines: list[str]) -> str | None:
+    """The acceleration unit a column file states before its data, or None.
+
+    Read from a comment ``# units: m/s**2`` (or ``# unit = g``) or from the
+    header naming the acceleration column (the last): ``accel[g]``, ``acc (g)``,
+    ``accel_m/s**2`` (as :func:`write_columns` writes it), ``a_g_g`` (as
+    ``imil drive motion`` writes it).  A name whose suffix is no acceleration
+    unit (``accel_m_s2``) states none.
+
+    Raises
+    ------
+    DataFileError
+        The ``# units:`` comment names no acceleration unit.
+    """
+    for number, line in enumerate(lines, start=1):
+        stripped = line.strip()
+        if not stripped:
+            continue
+        tokens = _split_row(stripped)
+        if not stripped.startswith("#") and _row_values(tokens) is not None:
+            return None  # the data begins: no unit stated
+        comment = _UNITS_COMMENT_RE.match(stripped)
+        if comment:
+            try:
+                _unit_factor(comment.group(1))
+            except ConfigError:
+                raise DataFileError(
+                    path, f"line {number} states {comment.group(1)!r}: not an acceleration unit"
+                ) from None
+            return comment.group(1)
+        if not stripped.startswith("#"):
+            text = _header_unit(stripped)
+            if text is not None:
+                return text
+    return None
+
+
+def _header_unit(line: str) -> str | None:
+    """The acceleration unit in the name of a header's last column (``accel[g]``, ``a_g_g``), or None.
+
+    The unit is in brackets or after an underscore (the shortest suffix that
+    is an acceleration unit); a name such as ``accel_m_s2`` states none.
+    """
+    fields = [f for f in _HEADER_SPLIT_RE.split(line) if f]
+    name = fields[-1] if len(fields) > 1 else line
+    bracket = _BRACKET_UNIT_RE.search(name)
+    candidates = [bracket.group(1)] if bracket else []
+    parts = name.split("_")
+    candidates += ["_".join(parts[k:]) for k in range(1, len(parts))]
+    for text in candidates:
+        try:
+            _unit_factor(text)
+        except ConfigError:
+            continue
+        return text
+    return None
+
+
+def _column_units(path: Path, lines: list[str], units: str | None, key: str) -> str:
+    """The unit of a column file's accelerations: the one it states, else ``units``."""
+    stated = stated_units(path, lines)
+    if stated is None:
+        if units is None:
+            raise ConfigError(
+                key,
+                f"the unit of the accelerations of {path.name} (the file states none: "
+                "give it, or a header such as accel[g] or '# units: m/s**2')",
+                "no unit",
+            )
+        return units
+    if units is not None and _unit_factor(units, key) != _unit_factor(stated):
+        raise ConfigError(key, f"{stated} as {path.name} states (or leave it out)", units)
+    return stated
 
 
 def _split_row(line: str) -> list[str]:
@@ -256,16 +351,20 @@ def _check_uniform(path: Path, time: np.ndarray, first_line: int) -> float:
     return dt
 
 
-def read_columns(path: str | Path, units: str = "g") -> GroundMotion:
+def read_columns(path: str | Path, units: str | None = None, key: str = "units") -> GroundMotion:
     """Read a two-column (time [s], acceleration) text or CSV file.
 
     Parameters
     ----------
     path : str or Path
         The file.
-    units : str
-        Unit of the accelerations: ``"g"`` (standard gravity, default) or any
-        pint acceleration unit such as ``"m/s**2"``, ``"cm/s**2"``, ``"in/s**2"``.
+    units : str or None
+        Unit of the accelerations when the file states none (:func:`stated_units`):
+        ``"g"`` (standard gravity) or any pint acceleration unit such as
+        ``"m/s**2"``, ``"cm/s**2"``, ``"in/s**2"``.  Given with a file that
+        states another unit, it is refused.
+    key : str
+        Name of ``units`` in error messages (``--motion-units`` for the CLI).
 
     Returns
     -------
@@ -277,34 +376,41 @@ def read_columns(path: str | Path, units: str = "g") -> GroundMotion:
     DataFileError
         Empty file, no data rows, a row without exactly two numbers, a
         non-numeric token or NaN inside the data, time not strictly increasing
-        or not uniformly sampled (see :data:`UNIFORM_TIME_RTOL`).
+        or not uniformly sampled (see :data:`UNIFORM_TIME_RTOL`), a ``# units:``
+        comment that names no acceleration unit.
     ConfigError
-        ``units`` is not an acceleration unit.
+        Naming ``key``: ``units`` is not an acceleration unit, differs from
+        the file's, or is None for a file that states no unit.
     """
     p = Path(path)
-    factor = _unit_factor(units)
+    check_units(units, key)
     lines = _read_text(p)
     rows, first_line = _column_rows(p, lines)
     dt = _check_uniform(p, rows[:, 0], first_line)
+    units = _column_units(p, lines, units, key)
+    factor = _unit_factor(units, key)
     note = f"{p.name} (two-column, {units})"
     if rows[0, 0] != 0.0:
         note += f", shifted from t0 = {rows[0, 0]:.9g} s"
     return GroundMotion(dt, rows[:, 1] * factor, p.stem, note)
 
 
-def read_motion(path: str | Path, units: str = "g") -> GroundMotion:
+def read_motion(path: str | Path, units: str | None = None, key: str = "units") -> GroundMotion:
     """Read a ground-motion file: PEER ``.AT2``, two-column text or CSV.
 
     A file whose suffix is ``.at2`` (any case), or whose fourth line carries
-    ``NPTS=``, is read as PEER AT2 (always in g; ``units`` must then be g);
-    any other file as two columns (time [s], acceleration [units]).
+    ``NPTS=``, is read as PEER AT2 (always in g; ``units``, if given, must
+    then be g); any other file as two columns (time [s], acceleration in the
+    unit the file states, else ``units``: see :func:`read_columns`).
 
     Parameters
     ----------
     path : str or Path
         The file.
-    units : str
-        Unit of the accelerations of a column file (default ``"g"``).
+    units : str or None
+        Unit of the accelerations of a column file that states none.
+    key : str
+        Name of ``units`` in error messages.
 
     Returns
     -------
@@ -316,14 +422,15 @@ def read_motion(path: str | Path, units: str = "g") -> GroundMotion:
     DataFileError
         Missing, unreadable or malformed file (see :func:`read_at2`, :func:`read_columns`).
     ConfigError
-        ``units`` is not an acceleration unit, or is not g for an AT2 file.
+        Naming ``key``: ``units`` is not an acceleration unit, is not g for an
+        AT2 file, or is missing for a column file that states no unit.
     """
     p = Path(path)
     if p.suffix.lower() == ".at2" or (p.is_file() and _looks_like_at2(_read_text(p))):
-        if _unit_factor(units) != G0:
-            raise ConfigError("units", "g for a PEER AT2 file (its header fixes the unit)", units)
+        if units is not None and _unit_factor(units, key) != G0:
+            raise ConfigError(key, "g for a PEER AT2 file (its header fixes the unit)", units)
         return read_at2(p)
-    return read_columns(p, units)
+    return read_columns(p, units, key)
 
 
 def builtin_motion(name: str = "elcentro") -> GroundMotion:

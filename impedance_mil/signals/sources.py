@@ -24,7 +24,7 @@ from pathlib import Path
 from ..errors import ConfigError
 from .fema import read_fema_p695
 from .motion import GroundMotion
-from .readers import BUILTIN_MOTIONS, builtin_motion, read_motion
+from .readers import BUILTIN_MOTIONS, builtin_motion, check_units, read_motion
 
 #: Prefix of a FEMA P695 source.
 FEMA_PREFIX = "fema:"
@@ -75,43 +75,56 @@ def parse_fema(text: str, key: str = "SOURCE") -> FemaRecord:
     return FemaRecord(parts[0], record, component)
 
 
-def read_source(source: str, units: str = "g", key: str = "SOURCE") -> GroundMotion:
+def read_source(
+    source: str, motion_units: str | None = None, key: str = "SOURCE", units_key: str = "motion_units"
+) -> GroundMotion:
     """The motion a source names (see the module docstring), as recorded [in/s^2].
 
     Parameters
     ----------
     source : str
         Built-in name, FEMA P695 source or file path.
-    units : str
-        Unit of the accelerations of a column file.
+    motion_units : str or None
+        Unit of the accelerations of a column file that states none (required
+        for such a file); the built-in and FEMA records and AT2 files are in g.
     key : str
         Name of the source in error messages (``--motion``, ``SOURCE`` ...).
+    units_key : str
+        Name of ``motion_units`` in error messages (``--motion-units`` ...).
 
     Raises
     ------
     ConfigError
-        A malformed FEMA source, an unknown record, or a bad ``units``.
+        A malformed FEMA source, an unknown record, a ``motion_units`` that is not an
+        acceleration unit (whatever the source), or none for a column file
+        that states no unit.
     DataFileError
         A missing or malformed file.
     """
+    check_units(motion_units, units_key)
     name = source.strip().lower()
     if name in BUILTIN_MOTIONS:
         return builtin_motion(name)
     if name.startswith(FEMA_PREFIX):
         rec = parse_fema(source.strip(), key)
         return read_fema_p695(rec.record_set, rec.record, rec.component)
-    return read_motion(Path(source), units=units)
+    return read_motion(Path(source), motion_units, units_key)
 
 
 def scaled_motion(
     source: str,
-    units: str = "g",
+    motion_units: str | None = None,
     time_scale: float | None = None,
     pga_g: float | None = None,
     key: str = "SOURCE",
+    units_key: str = "motion_units",
 ) -> GroundMotion:
-    """:func:`read_source`, then time compression (t' = t / ``time_scale``), then scaling to ``pga_g`` [g]."""
-    motion = read_source(source, units, key)
+    """:func:`read_source`, then time compression (t' = t / ``time_scale``), then scaling to ``pga_g`` [g].
+
+    ``motion_units``: the acceleration unit of a column file that states none
+    (``units_key`` names it in errors).
+    """
+    motion = read_source(source, motion_units, key, units_key)
     if time_scale is not None:
         motion = motion.time_scaled(time_scale)
     if pga_g is not None:

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -84,6 +84,9 @@ class VSSpec:
         Model parameters set after building from the targets (internal units).
     vstype : VSType or None
         The VS's type (None for a VS written in Python).
+    notes : tuple of str
+        What a run should say about the VS (:func:`fitted_to_article`: targets
+        that assume another article than the one carried).
     """
 
     name: str
@@ -91,6 +94,7 @@ class VSSpec:
     targets: Any = None
     model_overrides: dict = dataclasses.field(default_factory=dict)
     vstype: VSType | None = None
+    notes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -209,8 +213,13 @@ def load(path: str | Path) -> VSSpec:
         raise ConfigError(where + exc.key, exc.expected, exc.got) from None
 
 
-def resolve(preset_or_file: str, overrides: Mapping[str, Any] | None = None) -> VSSpec:
+def resolve(
+    preset_or_file: str, overrides: Mapping[str, Any] | None = None, article_weight_lbf: float | None = None
+) -> VSSpec:
     """A preset name (``SD1`` .. ``FP3`` ...) or a VS file, with ``--set`` overrides applied.
+
+    With ``article_weight_lbf`` [lbf] (the specimen the run carries), a preset
+    is :func:`fitted_to_article`; a VS file keeps the values it states.
 
     Raises
     ------
@@ -221,14 +230,60 @@ def resolve(preset_or_file: str, overrides: Mapping[str, Any] | None = None) -> 
     """
     text = str(preset_or_file)
     if text.strip().upper() in presets.names():
-        spec = _preset_spec(presets.vs_type(text), text.strip().upper(), "")
-    elif Path(text).exists():
+        spec = with_overrides(_preset_spec(presets.vs_type(text), text.strip().upper(), ""), overrides or {})
+        if article_weight_lbf is None:
+            return spec
+        return fitted_to_article(spec, article_weight_lbf, set(overrides or {}))
+    if Path(text).exists():
         spec = load(text)
     else:
         raise ConfigError(
             "preset", "a preset (" + ", ".join(presets.names()) + ") or a VS file", preset_or_file
         )
     return with_overrides(spec, overrides or {})
+
+
+def fitted_to_article(spec: VSSpec, weight_lbf: float, chosen: Collection[str] = ()) -> VSSpec:
+    """``spec`` carrying the article actually used: its axial load follows ``weight_lbf`` [lbf].
+
+    A type whose ``article_weight`` parameter sets the axial load (FP, TFP:
+    ``W = m_vs g + w_ps``, hence the friction force) gets ``weight_lbf`` there
+    unless the user chose that parameter (``chosen``: the keys set).  The
+    design targets (Tables 9.1-9.3: SD/LR frequency and damping, FP ``T_s``
+    through ``k_s``) stay as designed; where they assume an article
+    (``w_ps`` of the targets) other than ``weight_lbf``, a note says so
+    (:attr:`VSSpec.notes`).
+
+    Parameters
+    ----------
+    spec : VSSpec
+        A preset with its overrides.
+    weight_lbf : float
+        Weight of the specimen the run carries [lbf] (0: the bare table).
+    chosen : collection of str
+        Keys the user set (``--set-vs``); they are kept.
+    """
+    vs = spec.vs
+    if not isinstance(vs, DefinedVS):
+        return spec
+    key = vs.definition.article_weight
+    axial = ""
+    if key is not None and key not in chosen:
+        axial = f"; its axial load ({key}) is the specimen's"
+        if spec.targets is not None:
+            model = {**spec.model_overrides, key: float(weight_lbf)}
+            built = presets.apply_overrides(spec.targets, model)
+            spec = dataclasses.replace(spec, vs=built, model_overrides=model)
+        else:
+            spec = dataclasses.replace(spec, vs=vs.replace(**{key: float(weight_lbf)}))
+    designed = getattr(spec.targets, "w_ps", None)
+    if designed is None or "w_ps" in chosen or math.isclose(designed, weight_lbf, rel_tol=1e-9):
+        return spec
+    note = (
+        f"{spec.name}'s targets assume the report's article of {designed:g} lbf (Tables 9.1-9.3), "
+        f"the specimen weighs {weight_lbf:.0f} lbf{axial}"
+    )
+    return dataclasses.replace(spec, notes=(*spec.notes, note))
 
 
 def with_overrides(spec: VSSpec, overrides: Mapping[str, Any], where: str = "") -> VSSpec:

@@ -134,7 +134,9 @@ def test_column_file_with_units(monkeypatch, capsys, tmp_path):
     np.savetxt(
         path, np.column_stack([t, 2.0 * np.sin(2 * np.pi * t)]), delimiter=",", header="time,accel_m_s2"
     )
-    code, out, _ = _imil(monkeypatch, capsys, "motion", "info", str(path), "--units", "m/s**2", "--json")
+    code, out, _ = _imil(
+        monkeypatch, capsys, "motion", "info", str(path), "--motion-units", "m/s**2", "--json"
+    )
     # 2 m/s^2 = 2 / 9.80665 g = 0.20394 g (the sine peaks exactly on a sample at t = 0.25 s).
     assert code == 0 and json.loads(out)["pga_g"] == pytest.approx(2 / 9.80665, rel=1e-12)
 

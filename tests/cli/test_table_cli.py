@@ -115,3 +115,15 @@ def test_demo_writes_plots(tmp_path):
     assert res.exit_code == 0, res.output
     assert "stable: yes" in res.stdout
     assert {p.name for p in tmp_path.glob("*.png")} >= {"table_bode.png", "table_rlocus_Ke.png"}
+
+
+def test_tune_prints_the_reports_figures_only_for_the_reports_table(tmp_path):
+    needle = "report Section 4.4"
+    assert needle in runner.invoke(app, ["table", "tune"]).stdout
+    # The report's table copied elsewhere is still the report's; with a value changed it is not.
+    copy = tmp_path / "mine.toml"
+    copy.write_text(default_table_path().read_text())
+    assert needle in runner.invoke(app, ["table", "tune", "--table", str(copy)]).stdout
+    changed = runner.invoke(app, ["table", "tune", "--table", str(copy), "--set", "mass=1600 lb"])
+    assert changed.exit_code == 0 and needle not in changed.stdout and "Kp_limit" in changed.stdout
+    assert needle not in runner.invoke(app, ["table", "tune", "--set", "Ke=4"]).stdout

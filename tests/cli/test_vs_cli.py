@@ -138,3 +138,23 @@ def test_loops_recorded_motion(monkeypatch, capsys, tmp_path):
     assert summary["dt"] <= 0.001
     # SD2 with the article: peak z_vs is of the order of the PGA (0.2 g = 77 in/s^2)
     assert 20.0 < summary["systems"][0]["peak_z_vs"] < 200.0
+
+
+def test_loops_fp_carries_an_article_heavier_than_the_reports(monkeypatch, capsys, tmp_path):
+    # FP2's axial load W = m_vs g + w_ps follows --article-weight (it was refused over w_ps = 3600 lbf):
+    # the summary's axial load is basemat (2000 lb) plus article, and a note names the targets' article.
+    code, out, err = _imil(
+        monkeypatch,
+        capsys,
+        "loops",
+        "FP2",
+        "--article-weight",
+        "20000 lbf",
+        "-o",
+        str(tmp_path / "l.svg"),
+        "--json",
+    )
+    assert code == 0
+    (row,) = json.loads(out)["systems"]
+    assert row["axial_load"] == pytest.approx(22000.0, rel=1e-9)
+    assert "3600 lbf" in err and "20000 lbf" in err and "w_ps" in err

@@ -1,9 +1,18 @@
 """Design aids: feasible f_c range, --fc auto, basemat-mass study (Section 9.4.4), feasibility map."""
 
+import warnings
+
 import numpy as np
+import pytest
 
 from impedance_mil.design import design_controller
+from impedance_mil.design.adapters import table_model, virtual_model
 from impedance_mil.design.feasibility import choose_fc, feasibility_map, mass_ratio_study, scan_fc
+from impedance_mil.design.sampling import check_implementable_fc, implementable_fc
+from impedance_mil.errors import ConfigError
+from impedance_mil.implement.export import controller_from_design
+from impedance_mil.plant import TableParameters
+from impedance_mil.virtual import presets
 
 from .conftest import MST, sd_model
 
@@ -71,3 +80,22 @@ def test_unstable_vs_is_infeasible_not_an_abort(table):
         table, lambda m_vs, c: sd_model(m_vs=m_vs, c=c), "m_vs", [1.25 * MST], "c", [-50.0, 57.0], GRID[::3]
     )
     assert fmap.feasible.tolist() == [[False], [True]]
+
+
+def test_auto_choice_is_always_implementable():
+    # The report's table with FP2 (no feasible cut-off): the least bad grid point used to be the
+    # 1000 Hz Nyquist frequency itself, which discretize (imil export) refuses.  The choice and the
+    # refusal are one rule (design.sampling.implementable_fc).
+    tm = table_model(TableParameters.report_default())
+    choice = choose_fc(tm, virtual_model(presets.get("FP2"), "FP2"))
+    assert choice.scan.results[-1].fc_hz == tm.nyquist_hz  # the grid still ends at Nyquist
+    assert implementable_fc(choice.fc_hz, tm.loop_time_s) and choice.fc_hz < tm.nyquist_hz
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        design = design_controller(tm, virtual_model(presets.get("FP2"), "FP2"), fc_hz=choice.fc_hz)
+    assert controller_from_design(design).fc_hz == choice.fc_hz  # export accepts it
+    assert not implementable_fc(tm.nyquist_hz, tm.loop_time_s)
+    with pytest.raises(ConfigError, match=r"^fc_hz: expected a frequency in \(0, 1000\) Hz"):
+        check_implementable_fc("fc_hz", tm.nyquist_hz, tm.loop_time_s)
+    with pytest.raises(ConfigError, match="fc_grid_hz"):
+        choose_fc(tm, None, [tm.nyquist_hz, 2 * tm.nyquist_hz])

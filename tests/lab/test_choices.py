@@ -9,6 +9,8 @@ from impedance_mil.lab.choices import Choices, frf_test, mil_test, tracking_test
 from impedance_mil.lab.feedback import Feedback
 from impedance_mil.plant import TableParameters, default_table_path
 from impedance_mil.report_config import report_config
+from impedance_mil.units import G0
+from impedance_mil.virtual import presets
 
 
 def test_every_value_nobody_chose_comes_from_the_report_and_is_listed():
@@ -31,6 +33,44 @@ def test_a_chosen_value_is_not_listed():
     assert test.specimen.specimen.water_depth_in == pytest.approx(0.5 / 0.0254, rel=1e-12)
     assert not {"design.fc", "specimen.water_depth", "motions.GM1.pga"} & set(test.from_report)
     assert test.motion.motion.pga_g == pytest.approx(0.3, rel=1e-12)
+
+
+def test_a_chosen_motion_runs_as_recorded_and_only_the_default_is_time_compressed(tmp_path):
+    # A user's file: time scale 1 (its own 0.01 s interval), nothing listed from [motion].
+    rows = "\n".join(f"{0.01 * k:.2f},{0.1 * (k % 7)}" for k in range(400))
+    (tmp_path / "m.csv").write_text("time,accel[g]\n" + rows + "\n")
+    user = tracking_test(Choices(motion=str(tmp_path / "m.csv")))
+    assert user.motion.time_scale == 1.0 and user.motion.motion.time_step == pytest.approx(0.01, rel=1e-12)
+    assert not {"motion.time_scale", "motion.record"} & set(user.from_report)
+    # A chosen built-in record too (the report's seed itself, as recorded: dt 0.01 s).
+    seed = tracking_test(Choices(motion="elcentro", duration=2.0))
+    assert seed.motion.time_scale == 1.0 and "motion.time_scale" not in seed.from_report
+    assert seed.motion.motion.time_step == pytest.approx(0.01, rel=1e-12)
+    # The report's default motion takes [motion] time_scale, listed; an explicit one wins.
+    default = tracking_test(Choices(duration=2.0))
+    assert (
+        default.motion.time_scale
+        == report_config().motion.time_scale
+        == default.from_report["motion.time_scale"]
+    )
+    assert default.motion.motion.time_step == pytest.approx(
+        0.01 / report_config().motion.time_scale, rel=1e-12
+    )
+    chosen = tracking_test(Choices(motion=str(tmp_path / "m.csv"), time_scale=4.0))
+    assert chosen.motion.motion.time_step == pytest.approx(0.0025, rel=1e-12)
+
+
+def test_a_column_file_without_a_unit_needs_motion_units(tmp_path):
+    rows = "\n".join(f"{0.01 * k:.2f},{0.1 * (k % 7)}" for k in range(400))
+    (tmp_path / "m.csv").write_text(rows + "\n")
+    keys = {"motion_units": "--motion-units"}
+    with pytest.raises(ConfigError, match="^--motion-units: expected the unit of the accelerations of m.csv"):
+        tracking_test(Choices(motion=str(tmp_path / "m.csv"), keys=keys))
+    test = tracking_test(Choices(motion=str(tmp_path / "m.csv"), motion_units="m/s**2", keys=keys))
+    # 0.6 m/s^2 peak = 0.6 / 9.80665 g (exact conversion).
+    assert test.motion.motion.pga_g == pytest.approx(0.6 / 9.80665, rel=1e-12)
+    with pytest.raises(ConfigError, match="^--motion-units"):
+        tracking_test(Choices(motion_units="parsec", keys=keys))  # refused for the built-in motion too
 
 
 def test_ratings_a_table_file_leaves_out_are_the_reports_and_listed(tmp_path):
@@ -86,3 +126,29 @@ def test_a_rigid_weight_beyond_the_plausibility_bound_is_refused_naming_the_opti
         ConfigError, match="--specimen-weight: expected a plausible value, at most 1e\\+09 lbf"
     ):
         tracking_test(Choices(specimen="rigid", specimen_weight="1e308 lbf", duration=2.0, keys=keys))
+
+
+def test_a_preset_carries_the_specimen_actually_used():
+    # The FP's axial load W = m_vs g + w_ps (Eq 5-9b, Figure 7.11) follows a 20,000 lb rigid article;
+    # k_s stays the preset's (Table 9.3: from T_s with the report's article), and the run says so.
+    cfg = report_config()
+    heavy = mil_test(Choices(vs="FP2", specimen="rigid", specimen_weight="20000 lbf", duration=1.0))
+    values, preset = heavy.vs_spec.vs.to_dict(), presets.get("FP2").to_dict()
+    assert values["w_ps"] == 20000.0 and values["W"] == pytest.approx(
+        preset["m_vs"] * G0 + 20000.0, rel=1e-12
+    )
+    assert values["k_s"] == preset["k_s"]
+    (note,) = heavy.vs_spec.notes
+    assert f"{cfg.specimen.article_weight_lbf:g} lbf" in note and "20000 lbf" in note and "w_ps" in note
+    assert heavy.pretest().basemat is not None  # no longer refused over the report's 3600 lbf
+    # The report's own article (its vessel at 36 in) weighs the report's 3600 lbf: the preset is unchanged.
+    report = mil_test(Choices(vs="FP2", duration=1.0))
+    assert report.vs_spec.vs.to_dict() == preset and report.vs_spec.notes == ()
+    assert report.from_report["specimen.article_weight"] == cfg.specimen.article_weight_lbf
+    # A type without an axial load (SD) keeps its parameters; its targets' article is named.
+    bare = mil_test(Choices(vs="SD2", specimen="none", duration=1.0))
+    assert bare.vs_spec.vs.to_dict() == presets.get("SD2").to_dict()
+    assert "weighs 0 lbf" in bare.vs_spec.notes[0] and "axial" not in bare.vs_spec.notes[0]
+    # A w_ps the user sets is kept, without a note.
+    chosen = mil_test(Choices(vs="FP2", specimen="rigid", specimen_weight=2000, vs_overrides={"w_ps": 2500}))
+    assert chosen.vs_spec.vs.to_dict()["w_ps"] == 2500.0 and chosen.vs_spec.notes == ()

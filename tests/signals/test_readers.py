@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -110,7 +112,7 @@ def test_columns_csv_with_header_and_units(tmp_path):
 
 def test_columns_whitespace_without_header_shifted_start(tmp_path):
     rows = "\n".join(f"{1.5 + 0.02 * k:.3f}\t{a}" for k, a in enumerate(SAMPLES_G))
-    motion = read_motion(_write(tmp_path, "rec.txt", rows))
+    motion = read_motion(_write(tmp_path, "rec.txt", rows), units="g")
     np.testing.assert_allclose(motion.accel, SAMPLES_G * G0, rtol=1e-15)
     assert motion.time[0] == 0.0 and "t0 = 1.5" in motion.source
 
@@ -118,7 +120,7 @@ def test_columns_whitespace_without_header_shifted_start(tmp_path):
 def test_columns_rounded_times_are_uniform(tmp_path):
     # dt = 1/300 s printed with 5 decimals: rounding error < 0.2 % of dt, inside the 1 % tolerance.
     rows = "\n".join(f"{k / 300:.5f} {a}" for k, a in enumerate(SAMPLES_G))
-    motion = read_motion(_write(tmp_path, "rec.dat", rows))
+    motion = read_motion(_write(tmp_path, "rec.dat", rows), units="g")
     assert motion.time_step == pytest.approx(1 / 300, rel=1e-5)
 
 
@@ -148,6 +150,45 @@ def test_bad_units(tmp_path):
         read_motion(path, units="in")  # a length, not an acceleration
     with pytest.raises(ConfigError, match="units"):
         read_motion(_write(tmp_path, "rec.AT2", AT2_NGAW2), units="m/s**2")
+
+
+@pytest.mark.parametrize(
+    ("head", "unit"),
+    [
+        ("time,accel[g]\n", "g"),
+        ("time, acc (m/s**2)\n", "m/s**2"),
+        ("time_s,accel_cm/s**2\n", "cm/s**2"),
+        ("# units: m/s**2\ntime,accel\n", "m/s**2"),
+        ("# unit = g\n", "g"),
+        ("time_s,a_g_g\n", "g"),  # as imil drive motion writes it: <channel>_<unit>
+    ],
+)
+def test_columns_stated_unit_is_used(tmp_path, head, unit):
+    factor = {"g": 1.0, "m/s**2": 9.80665, "cm/s**2": 980.665}[unit]  # value in `unit` of 1 g (exact)
+    rows = "\n".join(f"{0.01 * k:.2f},{a:.17g}" for k, a in enumerate(SAMPLES_G * factor))
+    motion = read_motion(_write(tmp_path, "rec.csv", head + rows + "\n"))
+    np.testing.assert_allclose(motion.accel, SAMPLES_G * G0, rtol=1e-12)
+    # The same unit given again is accepted; another is refused, naming the key and the file's unit.
+    assert read_motion(tmp_path / "rec.csv", units=unit).npts == motion.npts
+    other = "in/s**2"
+    with pytest.raises(ConfigError, match=rf"^--motion-units: expected {re.escape(unit)} as rec.csv states"):
+        read_motion(tmp_path / "rec.csv", units=other, key="--motion-units")
+
+
+def test_columns_without_unit_are_refused_unless_given(tmp_path):
+    # A column name that is no unit (accel_m_s2) states none: the reader does not guess g.
+    path = _write(tmp_path, "rec.csv", "time_s,accel_m_s2\n0,0.1\n0.01,0.2\n")
+    with pytest.raises(
+        ConfigError, match=r"^--motion-units: expected the unit of the accelerations of rec.csv"
+    ):
+        read_motion(path, key="--motion-units")
+    assert read_motion(path, units="m/s**2").accel[0] == pytest.approx(0.1 / 0.0254, rel=1e-12)
+
+
+def test_columns_units_comment_must_be_an_acceleration(tmp_path):
+    path = _write(tmp_path, "rec.csv", "# units: parsec\n0,0.1\n0.01,0.2\n")
+    with pytest.raises(DataFileError, match="line 1 states 'parsec': not an acceleration unit"):
+        read_motion(path, units="g")
 
 
 def test_builtin_elcentro_matches_report_table_8_1():
