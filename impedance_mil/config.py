@@ -53,6 +53,12 @@ _UREG = pint.UnitRegistry()
 for _definition in PINT_DEFINITIONS:
     _UREG.define(_definition)
 
+
+def unit_registry() -> pint.UnitRegistry:
+    """The package's pint registry (with ``g0``): the one that reads and shows units."""
+    return _UREG
+
+
 #: Allowed checks for a field value.
 CHECKS = ("positive", "nonnegative", "any", "fraction")
 

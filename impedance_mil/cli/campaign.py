@@ -29,7 +29,7 @@ from ..campaign import (
 from ..campaign.executors import DEFAULT_CONNECT_TIMEOUT_S
 from ..config import parse_overrides
 from ..report.reproduction import write_reproduction_report
-from .common import console, print_json
+from .common import UnitsOpt, console, output_units, print_json
 from .runopts import EXIT_INTERRUPTED
 
 app = typer.Typer(
@@ -60,8 +60,10 @@ def run(
     reduced: bool = typer.Option(False, "--reduced", help="Run the reduced (CI) version of the campaign."),
     overrides: list[str] | None = typer.Option(None, "--set", help="Base setting KEY=VALUE (repeatable)."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON, no progress bar."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Run a campaign; runs already done in the folder are skipped (resume)."""
+    shown = output_units(units)
     spec = _load(campaign, reduced, max_runs, overrides)
     folder = out or Path(f"campaign-{spec.name}{'-reduced' if reduced else ''}")
     executor = make_executor(workers, scheduler, connect_timeout)
@@ -86,7 +88,8 @@ def run(
                 **counts,
                 "summary_csv": str(result.summary.csv),
                 "summary_parquet": str(result.summary.parquet or ""),
-            }
+            },
+            shown,
         )
         return
     console.print(
@@ -131,8 +134,10 @@ def plan(
     reduced: bool = typer.Option(False, "--reduced", help="Expand the reduced (CI) version."),
     overrides: list[str] | None = typer.Option(None, "--set", help="Base setting KEY=VALUE (repeatable)."),
     as_json: bool = typer.Option(False, "--json", help="Print the runs as JSON."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Validate and expand a campaign without running it."""
+    shown = output_units(units)
     spec = _load(campaign, reduced, max_runs, overrides)
     if as_json:
         print_json(
@@ -143,7 +148,8 @@ def plan(
                     {"run_id": r.run_id, "kind": r.kind, "studies": list(r.studies), "settings": r.settings}
                     for r in spec.runs
                 ],
-            }
+            },
+            shown,
         )
         return
     table = Table(title=f"{spec.name} ({spec.kind}): {len(spec.runs)} runs")

@@ -13,18 +13,48 @@ import typer
 from rich.console import Console
 
 from ..config import parse_overrides
+from ..display import UnitSystem, human_name, unit_system
 from ..errors import ConfigError
 from ..fileio import json_safe
 from ..lab.labfile import load_lab
 from ..plant import TableParameters, default_table_path
+from ..report.documents import TF_COEFFICIENTS, express
 
 #: Console for human-readable output (stdout).
 console = Console(highlight=False, soft_wrap=True)
 
 
-def print_json(data: Any) -> None:
-    """Print ``data`` as JSON on stdout (NaN and inf become null)."""
-    print(json.dumps(json_safe(data), indent=2))
+def print_json(data: Any, units: UnitSystem = UnitSystem.US) -> None:
+    """Print ``data`` (internal units) as JSON in ``units``, with its ``units`` block (NaN, inf: null)."""
+    doc = express(data, units) if isinstance(data, Mapping) else data
+    print(json.dumps(json_safe(doc), indent=2))
+
+
+def print_fields(data: Mapping[str, Any], units: UnitSystem, width: int = 32) -> None:
+    """``key  value unit`` lines of a flat document (internal units) in ``units``."""
+    shown = express(data, units)
+    for key, value in shown.items():
+        if key in ("units", "unit_system"):
+            continue
+        unit = shown["units"].get(key, "")
+        text = f"{value:.6g}" if isinstance(value, float) else str(value)
+        tail = "" if unit in ("", "1", "unknown") or unit == TF_COEFFICIENTS else " " + human_name(unit)
+        console.print(f"{key:{width}s} {text}{tail}", markup=False)
+
+
+#: The ``--units`` option of every command.
+UnitsOpt = typer.Option(
+    None, "--units", help="us | si: units of what is printed (default: the lab file's units, else us)."
+)
+
+
+def output_units(units: str | None, lab: str | None = None, table: Path | None = None) -> UnitSystem:
+    """``--units``, else the ``units`` of ``--lab``/``--table`` (a lab file may say ``units = "si"``), else us."""
+    if units is not None:
+        return unit_system(units)
+    if lab is not None or table is not None:
+        return load_lab(lab, table=table).units
+    return UnitSystem.US
 
 
 @contextmanager

@@ -39,7 +39,16 @@ from ..report.motion_plots import save_figure
 from ..report_config import report_config
 from ..specimens import FluidVessel
 from ..virtual.files import VSSpec, resolve
-from .common import LabOpt, console, option_errors, positive_numbers, print_json, table_parameters
+from .common import (
+    LabOpt,
+    UnitsOpt,
+    console,
+    option_errors,
+    output_units,
+    positive_numbers,
+    print_json,
+    table_parameters,
+)
 
 _DESIGN = report_config().design
 _BAND_TEXT = ",".join(f"{f:g}" for f in DesignCriteria().band_hz)
@@ -154,8 +163,10 @@ def design(
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
     plots: Path | None = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
     output: Path | None = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Design the impedance-matching MIL controller and check constraints I, II, III."""
+    shown = output_units(units, lab, table)
     given = {"design.form": form, "design.fc": fc, "design.filter": family}
     defaults = {"design.form": _DESIGN.form, "design.fc": _DESIGN.fc_hz, "design.filter": _DESIGN.filter}
     from_report = {key: defaults[key] for key, value in given.items() if value is None}
@@ -217,7 +228,7 @@ def design(
         doc["from_report"] = from_report
         doc["vs_linearization"] = vm.equivalent.to_dict() if vm.equivalent is not None else None
         if json_out:
-            print_json(doc)
+            print_json(doc, shown)
         else:
             _print_human(result, [], [], [output] if output is not None else [])
         return
@@ -255,7 +266,7 @@ def design(
     if study:
         doc["mass_ratio_study"] = study
     if json_out:
-        print_json(doc)
+        print_json(doc, shown)
         return
     _print_human(result, reasons, study, written)
 

@@ -24,6 +24,7 @@ from typing import Any
 import typer
 
 from ..config import quantity
+from ..display import UnitSystem
 from ..errors import ConfigError
 from ..lab.pretest import pretest
 from ..lab.setup import SafetyLimits
@@ -32,10 +33,10 @@ from ..signals.drive import FILE_FORMATS, multisine_metadata, write_drive
 from ..signals.multisine import REPORT_PERIOD_S, design_multisine
 from ..signals.sources import scaled_motion
 from ..virtual.files import resolve
-from .common import console, print_json, table_parameters
+from .common import UnitsOpt, console, output_units, print_json, table_parameters
 from .motion import PGA_HELP, SOURCE_HELP, TIME_SCALE_HELP, UNITS_HELP
 from .runopts import refuse_or_warn
-from .simulate import warn
+from .simulate import check_text, warn
 
 _REPORT = report_config()
 
@@ -59,10 +60,11 @@ def _folder(path: Path) -> Path:
     return path
 
 
-def _report(drive, folder: Path, as_json: bool, lines: list[str]) -> None:
+def _report(drive, folder: Path, as_json: bool, lines: list[str], shown: UnitSystem) -> None:
     if as_json:
         print_json(
-            {**drive.to_dict(), "files": [str(folder / drive.data_file), str(folder / f"{drive.kind}.json")]}
+            {**drive.to_dict(), "files": [str(folder / drive.data_file), str(folder / f"{drive.kind}.json")]},
+            shown,
         )
         return
     for line in lines:
@@ -93,8 +95,10 @@ def multisine(
     output: Path = DirOpt,
     overwrite: bool = OverwriteOpt,
     as_json: bool = JsonOpt,
+    units: str | None = UnitsOpt,
 ) -> None:
     """The report's multisine (Section 4.5.2) at the table's loop rate, with the metadata identify reads."""
+    shown = output_units(units, table=table)
     folder = _folder(output)
     params = table_parameters(table, sets)
     peak_in = quantity("--peak", _REPORT.frf.peak_in if peak is None else peak, "inch", "positive")
@@ -131,6 +135,7 @@ def multisine(
             f"({drive.n_samples} samples), peak {peak_in:.4g} in = {peak_in / drive.factor:.4g} {drive_units}, "
             f"crest factor {meta['crest_factor']:.3f}"
         ],
+        shown,
     )
 
 
@@ -152,8 +157,10 @@ def motion(
     force: bool = typer.Option(False, "--force", help="Write a motion that exceeds the table's limits."),
     overwrite: bool = OverwriteOpt,
     as_json: bool = JsonOpt,
+    units: str | None = UnitsOpt,
 ) -> None:
     """A ground motion as played: scaled, resampled to the loop rate, baseline-corrected, checked."""
+    shown = output_units(units, table=table)
     folder = _folder(output)
     params = table_parameters(table, sets)
     record = scaled_motion(source, motion_units, time_scale, pga, "SOURCE", "--motion-units")
@@ -183,7 +190,7 @@ def motion(
         provenance={"table": params.to_dict(), "interlocks": interlocks.to_dict()},
         overwrite=overwrite,
     )
-    checks = ", ".join(f"{c.name} {c.peak:.4g}/{c.limit:.4g} {c.unit}" for c in pre.input.checks)
+    checks = ", ".join(check_text(c, shown) for c in pre.input.checks)
     _report(
         drive,
         folder,
@@ -193,4 +200,5 @@ def motion(
             f"({drive.n_samples} samples), baseline-corrected, in {drive_units}",
             f"pre-test check: {checks}: {'fits' if pre.input.ok else 'EXCEEDS (--force)'}",
         ],
+        shown,
     )

@@ -26,11 +26,12 @@ from ..lab.evaluation import compare_summaries, evaluate_recording
 from ..lab.recorded import read_lab_recording
 from ..lab.results import RUN_FILE_SUFFIXES, load_run
 from ..lab.runfile import MODEL_LOOP, read_summary, recomputed_summary, write_run_file
+from ..report.documents import express
 from ..report.evaluation_page import write_evaluation_page
 from ..report_config import report_config
 from ..virtual import presets
 from ..virtual.files import resolve
-from .common import console, print_json, table_parameters
+from .common import UnitsOpt, console, output_units, print_json, table_parameters
 from .recording import AllowClippedOpt, ChannelOpt, ChannelsFileOpt, RateOpt, channel_map
 from .runopts import metric_lines, output_path
 
@@ -90,8 +91,10 @@ def evaluate(
     allow_clipped: bool = AllowClippedOpt,
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing output files."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Judge a recorded tracking or MIL test with the metrics, run file and page of a virtual run."""
+    shown = output_units(units, table=table)
     out = output_path("-o", output, overwrite, RUN_FILE_SUFFIXES)
     page = output_path("--report", report, overwrite)
     if page is not None and page.resolve() == out.resolve():
@@ -128,6 +131,6 @@ def evaluate(
         )
     doc = {**doc, "file": str(out), "report": None if page is None else str(page)}
     if as_json:
-        print_json(doc)
+        print_json(doc, shown)
     else:
-        _print(doc)
+        _print(express(doc, shown))

@@ -21,16 +21,18 @@ from pathlib import Path
 
 import typer
 
+from ..display import human_name
 from ..errors import ConfigError
 from ..fileio import atomic_write_text
 from ..lab.identification import IDENTIFIABLE
 from ..lab.identify import MODELS, OUTPUT_ZEROS, identify_recording
 from ..lab.recorded import read_lab_recording
 from ..plant.linear import DELAYS
+from ..report.documents import express
 from ..report.identification_plots import save_identification_plot
 from ..report.motion_plots import check_figure_path
 from ..signals.drive import check_recording, read_drive
-from .common import console, positive_numbers, print_json, table_parameters
+from .common import UnitsOpt, console, output_units, positive_numbers, print_json, table_parameters
 from .recording import AllowClippedOpt, ChannelOpt, ChannelsFileOpt, RateOpt, channel_map
 from .runopts import output_path
 
@@ -59,7 +61,9 @@ def _print(doc: dict, model: str) -> None:
     say(f"physical model ({phys['delay']} delay): fit error {phys['fit_error']:.4f}")
     for name, value in phys["parameters"].items():
         lo, hi = phys["ci95"].get(name, (float("nan"), float("nan")))
-        say(f"  {name:16s} {value:12.6g}   95 % interval {lo:.6g} .. {hi:.6g}")
+        unit = human_name(doc["units"].get(f"physical.parameters.{name}", ""))
+        unit = "" if unit in ("1", "unknown") else unit
+        say(f"  {name:16s} {value:12.6g} {unit:12s} 95 % interval {lo:.6g} .. {hi:.6g}")
     tf = doc["tf"]
     say(
         f"rational model: order {tf['order']}, numerator degree {tf['num_order']} "
@@ -116,8 +120,10 @@ def identify(
     allow_clipped: bool = AllowClippedOpt,
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing output files."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Identify the table (physical and rational models, with confidence intervals) from a recording."""
+    shown = output_units(units, table=table)
     out = output_path("-o", output, overwrite)
     if plot is not None:
         check_figure_path(plot, "--plot")
@@ -158,6 +164,6 @@ def identify(
         save_identification_plot(ident, plot)
     doc = {**doc, "file": str(out), "plot": None if plot is None else str(plot)}
     if as_json:
-        print_json(doc)
+        print_json(doc, shown)
     else:
-        _print(doc, model)
+        _print(express(doc, shown), model)

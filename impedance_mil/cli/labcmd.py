@@ -13,8 +13,10 @@ from pathlib import Path
 import typer
 
 from ..config import parse_overrides
-from ..lab.labfile import LAB_UNITS, load_lab
-from .common import console, print_json
+from ..display import human_name
+from ..lab.labfile import load_lab
+from ..report.documents import express
+from .common import UnitsOpt, console, output_units, print_json
 
 app = typer.Typer(
     help="Laboratory setup: table, interlocks, sensors, controller, specimen.", no_args_is_help=True
@@ -31,8 +33,10 @@ def show(
     table: Path | None = typer.Option(None, "--table", help="A bare table file (a lab with only a table)."),
     sets: list[str] | None = typer.Option(None, "--set", help="Table value KEY=VALUE (repeatable)."),
     json: bool = typer.Option(False, "--json", help="Print JSON."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """The effective setup, with units and the source of each value."""
+    shown = output_units(units, lab, table)
     setup = load_lab(
         lab if lab is not None or table is not None else "report",
         table=table,
@@ -40,21 +44,22 @@ def show(
     )
     doc = setup.to_dict()
     if json:
-        print_json(doc)
+        print_json(doc, shown)
         return
     sources = doc["sources"]
-    _say(f"lab {doc['lab']} ({doc['file']})")
+    view = express(doc, shown)
+    unit_of = view["units"]
+    _say(f"lab {doc['lab']} ({doc['file']}); printed in {shown.value} units")
     _say(f"  table: {sources.get('table', 'file')}; loop time {setup.table.loop_time * 1e6:g} us")
     for section in ("limits", "controller", "specimen"):
         _say(f"[{section}]")
-        for key, value in doc[section].items():
-            unit = LAB_UNITS.get(f"{section}.{key}", "")
-            shown = "none" if value is None else (f"{value:.6g}" if isinstance(value, float) else str(value))
-            _say(
-                f"  {key:22s} {shown} {unit}".rstrip() + f"   ({sources.get(f'{section}.{key}', 'derived')})"
-            )
+        for key, value in view[section].items():
+            unit = human_name(unit_of.get(f"{section}.{key}", ""))
+            text = "none" if value is None else (f"{value:.6g}" if isinstance(value, float) else str(value))
+            tail = f" {unit}" if unit not in ("", "1") and value is not None else ""
+            _say(f"  {key:22s} {text}{tail}   ({sources.get(f'{section}.{key}', 'derived')})")
     _say(f"[sensors] clipping {doc['sensors']['clipping']} ({sources['sensors']})")
-    for ch in doc["sensors"]["channels"]:
+    for ch in view["sensors"]["channels"]:
         low, high = ch["range"]
         _say(
             f"  {ch['name']:14s} {ch['quantity']:22s} {low:.6g} to {high:.6g} {ch['unit']}, "

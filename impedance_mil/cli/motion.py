@@ -23,6 +23,7 @@ import numpy as np
 import typer
 
 from ..config import parse_overrides
+from ..display import UnitSystem, display_unit, format_value
 from ..errors import ConfigError
 from ..lab.labfile import load_lab
 from ..lab.pretest import check_dict
@@ -39,7 +40,7 @@ from ..signals import (
 )
 from ..signals.sources import motion_summary, scaled_motion
 from ..units import G0
-from .common import LabOpt, console, positive_numbers, print_json, table_parameters
+from .common import LabOpt, UnitsOpt, console, output_units, positive_numbers, print_json, table_parameters
 
 app = typer.Typer(
     help="Ground motions: info, response spectrum, table feasibility check.", no_args_is_help=True
@@ -99,24 +100,27 @@ def info(
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     as_json: bool = typer.Option(False, "--json", help="Print JSON."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Number of points, sample interval, duration, PGA, PGV and PGD (after baseline correction)."""
+    shown = output_units(units)
     data = motion_summary(load_motion(source, motion_units, time_scale, pga))
     if as_json:
-        print_json(data)
+        print_json(data, shown)
         return
     console.print(f"{data['name']}\n  source:   {data['source']}")
     console.print(
         f"  npts:     {data['npts']}\n  dt:       {data['dt_s']:.6g} s\n"
         f"  duration: {data['duration_s']:.4f} s\n  PGA:      {data['pga_g']:.4f} g"
     )
+    vel, disp = display_unit("inch / second", shown), display_unit("inch", shown)
     console.print(
-        f"  PGV:      {data['pgv_in_s']:.3f} in/s  (baseline-corrected; as read "
-        f"{data['pgv_in_s_uncorrected']:.3f})"
+        f"  PGV:      {vel(data['pgv_in_s']):.4g} {vel.name}  (baseline-corrected; as read "
+        f"{vel(data['pgv_in_s_uncorrected']):.4g})"
     )
     console.print(
-        f"  PGD:      {data['pgd_in']:.3f} in    (baseline-corrected; as read "
-        f"{data['pgd_in_uncorrected']:.3f})"
+        f"  PGD:      {disp(data['pgd_in']):.4g} {disp.name}    (baseline-corrected; as read "
+        f"{disp(data['pgd_in_uncorrected']):.4g})"
     )
 
 
@@ -132,8 +136,10 @@ def spectrum(
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     output: Path | None = typer.Option(None, "-o", "--output", help="Write a plot (png, pdf, svg ...)."),
     as_json: bool = typer.Option(False, "--json", help="Print JSON {period_s, psa_g, ...}."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Pseudo-acceleration response spectrum, exact for piecewise-linear input (report Figure 8.1)."""
+    shown = output_units(units)
     if output is not None:
         check_figure_path(output)
     motion = load_motion(source, motion_units, time_scale, pga)
@@ -149,7 +155,8 @@ def spectrum(
                 "psa_g": spec.psa_g,
                 "sd_in": spec.sd,
                 "sv_in_s": spec.sv,
-            }
+            },
+            shown,
         )
         return
     console.print(f"{motion.name}: {100 * spec.damping:g}%-damped spectrum")
@@ -195,8 +202,10 @@ def check(
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     as_json: bool = typer.Option(False, "--json", help="Print JSON."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Check stroke, velocity, force and valve flow before a test; exit 1 if a limit is exceeded."""
+    shown = output_units(units, lab, table)
     limits = _limits(table, overrides, specimen_weight, force_limit, lab)
     motion = load_motion(source, motion_units, time_scale, pga)
     result = check_motion(motion, limits)
@@ -209,23 +218,25 @@ def check(
                 **check_dict(result),
                 "suggested_total_time_scale": total,
                 "moving_weight_lbf": limits.moving_mass * G0,
-            }
+            },
+            shown,
         )
     else:
-        _print_check(motion, limits, result, total)
+        _print_check(motion, limits, result, total, shown)
     if not result.ok:
         raise typer.Exit(EXIT_LIMIT_EXCEEDED)
 
 
-def _print_check(motion, limits, result, total) -> None:
+def _print_check(motion, limits, result, total, units: UnitSystem) -> None:
     console.print(
         f"{motion.name} (PGA {motion.pga_g:.3f} g, dt {motion.time_step:.6g} s) on a table "
-        f"moving {limits.moving_mass * G0:.0f} lb"
+        f"moving {format_value(limits.moving_mass * G0, 'force_pound', units)} (weight)"
     )
     for c in result.checks:
         mark = "ok  " if c.ok else "OVER"
+        unit = display_unit(c.unit.replace("^", "**"), units)
         console.print(
-            f"  {mark} {c.name:9s} peak {c.peak:10.4g} {c.unit:7s} limit {c.limit:10.4g} "
+            f"  {mark} {c.name:9s} peak {unit(c.peak):10.4g} {unit.name:7s} limit {unit(c.limit):10.4g} "
             f"({100 * c.ratio:5.1f} %) at t = {c.time_s:.3f} s"
         )
     if result.ok:
@@ -251,11 +262,13 @@ def plot(
     motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Plot displacement, velocity and acceleration histories (baseline-corrected)."""
+    shown = output_units(units)
     check_figure_path(output)
     motion = load_motion(source, motion_units, time_scale, pga)
-    save_figure(plot_histories(motion), output)
+    save_figure(plot_histories(motion, units=shown), output)
     console.print(f"wrote {output}")
 
 

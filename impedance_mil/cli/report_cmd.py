@@ -25,7 +25,7 @@ import typer
 
 from ..errors import ConfigError, DataFileError
 from ..report.runpage import run_page
-from .common import console
+from .common import UnitsOpt, console, output_units
 from .runopts import output_path
 
 
@@ -36,12 +36,14 @@ def report(
     output: Path = typer.Option(..., "-o", "--output", help="HTML file to write."),
     title: str = typer.Option("", "--title", help="Page title (default: mode and motion)."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing output file."),
+    units: str | None = UnitsOpt,
 ) -> None:
-    """Write the self-contained HTML report of one run."""
+    """Write the self-contained HTML report of one run (in --units us|si)."""
+    shown = output_units(units)
     if not run_file.is_file():
         raise DataFileError(run_file, "no such run file")
     output_path("-o", output, overwrite)
     if output.resolve() == run_file.resolve():
         raise ConfigError("-o", "a path other than the run file", str(output))
-    run_page(run_file, output, title)
+    run_page(run_file, output, title, shown)
     console.print(f"wrote {output}", markup=False)

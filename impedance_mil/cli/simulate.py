@@ -34,6 +34,7 @@ from pathlib import Path
 import typer
 
 from ..config import parse_overrides
+from ..display import UnitSystem, display_unit, format_value
 from ..errors import ConfigError
 from ..lab.choices import Choices, frf_test, mil_test, tracking_test
 from ..lab.descriptions import (
@@ -47,11 +48,11 @@ from ..lab.descriptions import (
 from ..lab.experiments import ControlledRun
 from ..lab.pretest import Pretest
 from ..lab.results import RUN_FILE_SUFFIXES
-from ..lab.runfile import MODEL_LOOP, write_run_file
+from ..lab.runfile import MODEL_LOOP, trip_text, write_run_file
 from ..report.runpage import write_run_page
 from ..report_config import report_config
 from ..virtual import presets
-from .common import console, positive_numbers, print_json
+from .common import UnitsOpt, console, output_units, positive_numbers, print_json
 from .motion import SOURCE_HELP, UNITS_HELP
 from .runopts import (
     CHOICE_OPTIONS,
@@ -176,8 +177,12 @@ def check(outcome: Outcome, *, force: bool, required: tuple[str, ...] = REQUIRED
         outcome.warnings += list(test.vs_spec.notes)
 
 
-def perform(outcome: Outcome, out: Path, report: Path | None, *, quiet: bool) -> Outcome:
-    """Run the checked ``outcome.test``, then write the run file (and the report).
+def perform(
+    outcome: Outcome, out: Path, report: Path | None, *, quiet: bool, units: UnitSystem = UnitSystem.US
+) -> Outcome:
+    """Run the checked ``outcome.test``, then write the run file (and the report, in ``units``).
+
+    The run file keeps internal units; ``outcome.document`` says why a run stopped in ``units``.
 
     ``outcome`` is filled in as the work proceeds, so that after an interrupt
     it says which files were already written.
@@ -198,13 +203,21 @@ def perform(outcome: Outcome, out: Path, report: Path | None, *, quiet: bool) ->
         outcome.written.paths.append(write_run_file(result.run, out, doc, arrays))
         if report is not None:
             step(f"writing {report}")
-            outcome.written.paths.append(write_run_page(result.run, doc, report, loop=arrays.get(MODEL_LOOP)))
-    outcome.document = {**doc, "file": str(out), "report": None if report is None else str(report)}
+            outcome.written.paths.append(
+                write_run_page(result.run, doc, report, loop=arrays.get(MODEL_LOOP), units=units)
+            )
+    reason = trip_text(result.run, units)
+    outcome.document = {
+        **doc,
+        "abort_reason": reason,
+        "file": str(out),
+        "report": None if report is None else str(report),
+    }
     return outcome
 
 
-def print_outcome(outcome: Outcome) -> None:
-    """The run on the terminal: configuration, pre-test check, design verdicts, status, metrics, files."""
+def print_outcome(outcome: Outcome, units: UnitSystem = UnitSystem.US) -> None:
+    """The run on the terminal (in ``units``): configuration, pre-test check, design verdicts, status, metrics, files."""
     say = lambda text: console.print(text, markup=False)  # noqa: E731  (units like [g] stay literal)
     test, doc, pre = outcome.test, outcome.document, outcome.pre
     gm = test.motion.motion
@@ -218,10 +231,10 @@ def print_outcome(outcome: Outcome) -> None:
         f"f_c {test.controller.fc_hz:g} Hz; {test.controller.precision} precision; seed {test.lab.seed}"
     )
     say(report_defaults_line(dict(test.from_report)))
-    checks = ", ".join(f"{c.name} {c.peak:.4g}/{c.limit:.4g} {c.unit}" for c in pre.input.checks)
+    checks = ", ".join(check_text(c, units) for c in pre.input.checks)
     say(f"pre-test check of the input motion: {checks}: {'fits' if pre.input.ok else 'EXCEEDS'}")
     if pre.basemat is not None:
-        checks = ", ".join(f"{c.name} {c.peak:.4g}/{c.limit:.4g} {c.unit}" for c in pre.basemat.checks)
+        checks = ", ".join(check_text(c, units) for c in pre.basemat.checks)
         say(
             f"predicted VS basemat motion against the interlocks: {checks}: "
             f"{'fits' if pre.basemat.ok else 'EXCEEDS'}"
@@ -242,10 +255,17 @@ def print_outcome(outcome: Outcome) -> None:
     if doc["peak_table_accel_g"] is not None:
         say(
             f"  peak table acceleration {doc['peak_table_accel_g']:.3f} g (target "
-            f"{doc['peak_target_accel_g']:.3f} g), peak table displacement {doc['peak_table_disp_in']:.3f} in"
+            f"{doc['peak_target_accel_g']:.3f} g), peak table displacement "
+            f"{format_value(doc['peak_table_disp_in'], 'in', units)}"
         )
     for path in outcome.written.paths:
         say(f"wrote {path}")
+
+
+def check_text(check, units: UnitSystem) -> str:
+    """``stroke 60.5/81.28 mm``: one pre-test check, its peak against its limit, in ``units``."""
+    unit = display_unit(check.unit.replace("^", "**"), units)
+    return f"{check.name} {unit(check.peak):.4g}/{unit(check.limit):.4g} {unit.name}"
 
 
 def warn(lines: list[str]) -> None:
@@ -263,8 +283,9 @@ def run_command(
     overwrite: bool,
     as_json: bool,
     require: str = ",".join(REQUIRED_CONSTRAINTS),
+    units: UnitSystem = UnitSystem.US,
 ) -> None:
-    """Shared body of ``simulate`` and ``track``: check outputs, perform, print, exit status."""
+    """Shared body of ``simulate`` and ``track``: check outputs, perform, print (in ``units``), exit status."""
     out = output_path("-o", output, overwrite, RUN_FILE_SUFFIXES)
     page = output_path("--report", report, overwrite)
     if page is not None and page.resolve() == out.resolve():
@@ -274,15 +295,15 @@ def run_command(
     check(outcome, force=force, required=required)
     warn(outcome.warnings)
     try:
-        perform(outcome, out, page, quiet=as_json)
+        perform(outcome, out, page, quiet=as_json, units=units)
     except KeyboardInterrupt:
         kept = ", ".join(str(p) for p in outcome.written.paths) or "nothing written"
         err_console.print(f"imil: interrupted ({kept})", markup=False)
         raise typer.Exit(EXIT_INTERRUPTED) from None
     if as_json:
-        print_json(outcome.document)
+        print_json(outcome.document, units)
     else:
-        print_outcome(outcome)
+        print_outcome(outcome, units)
     if outcome.document["sensor_clipping_fails"]:
         err_console.print(
             f"imil: error: a sensor clipped and the lab's [sensors] clipping is 'fail' "
@@ -328,6 +349,7 @@ def simulate(
     force: bool = ForceOpt,
     require: str = RequireOpt,
     overwrite: bool = OverwriteOpt,
+    units: str | None = UnitsOpt,
 ) -> None:
     """MIL run: the table imitates a virtual isolation system under a ground motion (Section 9)."""
     test = mil_test(
@@ -351,7 +373,10 @@ def simulate(
             seed=seed,
         )
     )
-    run_command(test, output, report, force=force, overwrite=overwrite, as_json=as_json, require=require)
+    shown = output_units(units, lab, table)
+    run_command(
+        test, output, report, force=force, overwrite=overwrite, as_json=as_json, require=require, units=shown
+    )
 
 
 def track(
@@ -381,6 +406,7 @@ def track(
     force: bool = ForceOpt,
     require: str = RequireOpt,
     overwrite: bool = OverwriteOpt,
+    units: str | None = UnitsOpt,
 ) -> None:
     """Acceleration tracking: the table reproduces the ground motion under the specimen (Section 8)."""
     test = tracking_test(
@@ -402,7 +428,10 @@ def track(
             seed=seed,
         )
     )
-    run_command(test, output, report, force=force, overwrite=overwrite, as_json=as_json, require=require)
+    shown = output_units(units, lab, table)
+    run_command(
+        test, output, report, force=force, overwrite=overwrite, as_json=as_json, require=require, units=shown
+    )
 
 
 def kp_list(text: str) -> list[float]:
@@ -412,13 +441,13 @@ def kp_list(text: str) -> list[float]:
     )
 
 
-def print_frf(doc: dict, path: Path) -> None:
-    """The FRF experiment on the terminal."""
+def print_frf(doc: dict, path: Path, units: UnitSystem = UnitSystem.US) -> None:
+    """The FRF experiment on the terminal (the multisine's peak in ``units``)."""
     say = lambda text: console.print(text, markup=False)  # noqa: E731
     ms, ref = doc["multisine"], doc["table_file"]
     say(
         f"frf: multisine of {ms['lines']} lines {ms['f_min_hz']:.3g}-{ms['f_max_hz']:.4g} Hz, "
-        f"{ms['peak_in']:.3g} in peak, {ms['n_periods']} x {ms['period_s']:.4g} s; {doc['specimen']}"
+        f"{format_value(ms['peak_in'], 'in', units, 3)} peak, {ms['n_periods']} x {ms['period_s']:.4g} s; {doc['specimen']}"
     )
     if "omega_oil_rad_s" in doc:
         say(f"identified from z/u (0.25-100 Hz, {doc['delay']} delay model; report Section 4.3.5):")
@@ -489,6 +518,7 @@ def frf(
     output: Path = OutOpt,
     as_json: bool = JsonOpt,
     overwrite: bool = OverwriteOpt,
+    units: str | None = UnitsOpt,
 ) -> None:
     """Multisine test of the table (Section 4.5): FRFs, identified omega_oil, zeta_oil, d, model error.
 
@@ -510,6 +540,7 @@ def frf(
         kp_study=kp_study_flag,
     )
     out = output_path("-o", output, overwrite, RUN_FILE_SUFFIXES)
+    shown = output_units(units, lab, table)
     try:
         doc = run_frf_test(test, out, quiet=as_json)
     except KeyboardInterrupt:
@@ -522,9 +553,9 @@ def frf(
             markup=False,
         )
     if as_json:
-        print_json({**doc, "file": str(out)})
+        print_json({**doc, "file": str(out)}, shown)
     else:
-        print_frf(doc, out)
+        print_frf(doc, out, shown)
     if doc["aborted"]:
         raise typer.Exit(EXIT_ABORTED)
 

@@ -11,11 +11,12 @@ from pathlib import Path
 
 import typer
 
+from ..display import UnitSystem
 from ..plant import LinearTable, TableParameters
 from ..plant.tuning import pole_summary, tuning_summary
 from ..report import table_plots
 from ..report.motion_plots import check_figure_path
-from .common import LabOpt, console, print_json, table_parameters
+from .common import LabOpt, UnitsOpt, console, output_units, print_fields, print_json, table_parameters
 
 app = typer.Typer(
     help="Shake-table model: parameters, poles, transfer functions, tuning.", no_args_is_help=True
@@ -33,10 +34,10 @@ def _say(text: str) -> None:
     console.print(text, markup=False)
 
 
-def _wrote(path: Path, as_json: bool) -> None:
+def _wrote(path: Path, as_json: bool, units: UnitSystem = UnitSystem.US) -> None:
     """Report a written file: ``{"file": ...}`` with ``--json``, else ``wrote PATH``."""
     if as_json:
-        print_json({"file": str(path)})
+        print_json({"file": str(path)}, units)
     else:
         _say(f"wrote {path}")
 
@@ -47,9 +48,11 @@ def info(
     lab: str | None = LabOpt,
     set: list[str] | None = SetOpt,
     json: bool = JsonOpt,
+    units: str | None = UnitsOpt,
 ) -> None:
-    """Parameters (internal units) and derived quantities."""
+    """Parameters and derived quantities, with their units (--units us|si)."""
     p = table_parameters(table, set, lab)
+    shown = output_units(units, lab, table)
     data = {
         "parameters": p.to_dict(),
         "derived": {
@@ -60,10 +63,9 @@ def info(
         },
     }
     if json:
-        print_json(data)
+        print_json(data, shown)
         return
-    for key, value in {**data["parameters"], **data["derived"]}.items():
-        _say(f"{key:32s} {value}")
+    print_fields({**data["parameters"], **data["derived"]}, shown)
 
 
 @app.command()
@@ -74,11 +76,12 @@ def poles(
     json: bool = JsonOpt,
     delay: str = DelayOpt,
     pade_order: int = PadeOpt,
+    units: str | None = UnitsOpt,
 ) -> None:
     """Closed-loop poles: frequency [Hz], damping [-], real/imag [rad/s]; reports instability."""
     stable, rows = pole_summary(table_parameters(table, set, lab), delay, pade_order)
     if json:
-        print_json({"poles": rows, "stable": stable, "delay": delay})
+        print_json({"poles": rows, "stable": stable, "delay": delay}, output_units(units, lab, table))
         return
     _say(f"delay model: {delay}   stable: {'yes' if stable else 'NO'}")
     _say(f"{'pole':5s} {'f [Hz]':>9s} {'zeta':>8s} {'real [rad/s]':>14s} {'imag [rad/s]':>14s}")
@@ -99,8 +102,11 @@ def tf(
     pade_order: int = PadeOpt,
     input: str = typer.Option("u", "--input", help="u (command [in]) or w (force [lbf])."),
     output: str = typer.Option("z", "--output", help="z [in/s^2], x [in], v [in/s] or dp [psi]."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Transfer function output/input: descending powers of s, monic denominator.
+
+    The coefficients are in internal units (in, in/s^2, lbf, psi; s in rad/s) whatever --units.
 
     With ``--delay sampled`` the discrete function in z is printed (with ``dt``).
     """
@@ -109,7 +115,7 @@ def tf(
     H = tbl.sampled().tf(output, input) if delay == "sampled" else tbl.tf(output, input)
     data = H.to_dict()
     if json:
-        print_json(data)
+        print_json(data, output_units(units, lab, table))
         return
     var = "z" if delay == "sampled" else "s"
     _say(f"H_{output}{input}({var}) = num/den, descending powers of {var}")
@@ -127,11 +133,13 @@ def bode(
     out: Path = typer.Option(Path("table-bode.png"), "-o", "--out", help="PNG file."),
     fmin: float = typer.Option(0.1, "--fmin", help="Lowest frequency [Hz]."),
     fmax: float = typer.Option(200.0, "--fmax", help="Highest frequency [Hz]."),
+    units: str | None = UnitsOpt,
 ) -> None:
-    """Bode plots of the six transfer functions (PNG)."""
+    """Bode plots of the six transfer functions (PNG, magnitudes in --units us|si)."""
     p = table_parameters(table, set, lab)
     check_figure_path(out, "-o")
-    _wrote(table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax), json)
+    shown = output_units(units, lab, table)
+    _wrote(table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax, units=shown), json, shown)
 
 
 @app.command()
@@ -143,10 +151,11 @@ def rlocus(
     param: str = typer.Option("Ke", "--param", help="Ke, Kp or loop_time."),
     upper: float | None = typer.Option(None, "--max", help="Largest value (internal units)."),
     out: Path = typer.Option(Path("table-rlocus.png"), "-o", "--out", help="PNG file."),
+    units: str | None = UnitsOpt,
 ) -> None:
-    """Root locus of the five poles for a K_e, K_p or loop-time sweep (PNG)."""
+    """Root locus of the five poles for a K_e, K_p or loop-time sweep (PNG; poles in rad/s)."""
     p = table_parameters(table, set, lab)
-    _wrote(table_plots.save_root_locus(p, param, out, upper=upper), json)
+    _wrote(table_plots.save_root_locus(p, param, out, upper=upper), json, output_units(units, lab, table))
 
 
 @app.command()
@@ -155,6 +164,7 @@ def tune(
     lab: str | None = LabOpt,
     set: list[str] | None = SetOpt,
     json: bool = JsonOpt,
+    units: str | None = UnitsOpt,
 ) -> None:
     """Stability limits, break-away points and the K_p maximizing oil-column damping.
 
@@ -163,14 +173,12 @@ def tune(
     """
     params = table_parameters(table, set, lab)
     data = tuning_summary(params)
+    shown = output_units(units, lab, table)
     if json:
-        print_json(data)
+        print_json(data, shown)
         return
     _say(f"stable with these parameters: {'yes' if data['stable'] else 'NO'}")
-    fmt = {None: "none found"}
-    for key, value in data.items():
-        if key != "stable":
-            _say(f"{key:34s} {fmt.get(value, value) if value is None else f'{value:.6g}'}")
+    print_fields({k: ("none found" if v is None else v) for k, v in data.items() if k != "stable"}, shown, 34)
     if params == TableParameters.report_default():
         _say(
             "(report Section 4.4: Ke 6.7 V/in, Kp > 0.0035 V/psi, break-away Ke 39.3 / "

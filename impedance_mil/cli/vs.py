@@ -13,6 +13,7 @@ from __future__ import annotations
 import typer
 
 from ..config import parse_overrides, quantity
+from ..display import UnitSystem, display_unit, format_value
 from ..lab.vs_loops import harmonic_input, recorded_input, vs_loops
 from ..plant import TableParameters
 from ..report.motion_plots import check_figure_path
@@ -22,7 +23,7 @@ from ..units import G0, in_s2_to_g
 from ..virtual import presets
 from ..virtual.files import VSSpec, resolve
 from ..virtual.files import describe as describe_spec
-from .common import console, print_json
+from .common import UnitsOpt, console, output_units, print_json
 from .motion import UNITS_HELP, load_motion
 from .runopts import err_console
 
@@ -57,11 +58,14 @@ def _spec(vs: str, sets: list[str] | None) -> VSSpec:
 
 
 @app.command("list")
-def list_presets(json_out: bool = typer.Option(False, "--json", help="Print JSON.")) -> None:
+def list_presets(
+    json_out: bool = typer.Option(False, "--json", help="Print JSON."), units: str | None = UnitsOpt
+) -> None:
     """List the presets (Tables 9.1-9.3 and those of the other types) with their targets or parameters."""
     rows = [presets.listing(name) for name in presets.names()]
+    shown = output_units(units)
     if json_out:
-        print_json(rows)
+        print_json(rows, shown)
         return
     for row in rows:
         keys = ("f", "zeta", "q_ratio", "mu_max", "mu_min", "T_s", "mu1", "mu2", "mu4", "R1", "R2")
@@ -75,20 +79,27 @@ def describe(
     vs: str = typer.Argument(..., help=VS_HELP),
     sets: list[str] | None = typer.Option(None, "--set", help=SET_HELP),
     json_out: bool = typer.Option(False, "--json", help="Print JSON (values in internal units)."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """All properties of a VS (targets, parameters, derived values) with units."""
+    shown = output_units(units)
     spec = _spec(vs, sets)
     props = describe_spec(spec)
     if json_out:
         data = {"name": spec.name, "kind": spec.vs.kind}
         data.update({p.key: p.value for p in props})
-        data["units"] = {p.key: _SHORT_UNITS.get(p.unit, p.unit) for p in props}
-        print_json(data)
+        data["units"] = {p.key: p.unit for p in props}  # internal units, for print_json
+        print_json(data, shown)
         return
     console.print(f"{spec.name}: {spec.vs.kind} virtual system")
     for p in props:
-        extra = f"  ({p.value * G0:.0f} lb)" if p.key in ("m_vs", "m_ps") else ""
-        console.print(f"  {p.label:45s} {p.key:9s} {p.value:12.6g} {_SHORT_UNITS.get(p.unit, p.unit)}{extra}")
+        weight = format_value(p.value * G0, "force_pound", shown) if p.key in ("m_vs", "m_ps") else ""
+        extra = f"  (weight {weight})" if weight else ""
+        unit = display_unit(p.unit, shown) if shown is UnitSystem.SI else None
+        value, name = (
+            (unit(p.value), unit.name) if unit is not None else (p.value, _SHORT_UNITS.get(p.unit, p.unit))
+        )
+        console.print(f"  {p.label:45s} {p.key:9s} {value:12.6g} {name}{extra}")
 
 
 @app.command("loops")
@@ -117,8 +128,10 @@ def loops(
     normalize: bool = typer.Option(False, help="Plot shear force / axial load (Figure 9.1)."),
     sets: list[str] | None = typer.Option(None, "--set", help=SET_HELP),
     json_out: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
+    units: str | None = UnitsOpt,
 ) -> None:
     """Force-displacement loops of one or more VS for a harmonic or recorded ground motion."""
+    shown = output_units(units)
     target = check_figure_path(output)
     step = quantity("--dt", dt if dt is not None else report_loop_time(), "second", "positive")
     weight = (
@@ -143,15 +156,18 @@ def loops(
     loads = [loop.axial_load for loop in loops]
     summary = [loop.summary() for loop in loops]
     input_text, step = loop_input.text, loop_input.dt
-    fig = plot_loops(responses, labels, loads if normalize else None, title=f"Ground motion: {input_text}")
+    fig = plot_loops(
+        responses, labels, loads if normalize else None, title=f"Ground motion: {input_text}", units=shown
+    )
     save_figure(fig, target)
     if json_out:
-        print_json({"figure": str(target), "input": input_text, "dt": step, "systems": summary})
+        print_json({"figure": str(target), "input": input_text, "dt": step, "systems": summary}, shown)
         return
     for row in summary:
         console.print(
-            f"{row['name']}: peak displacement {row['peak_displacement']:.3f} in, peak force "
-            f"{row['peak_force']:.1f} lbf, peak z_vs {in_s2_to_g(row['peak_z_vs']):.3f} g, "
-            f"dissipated {row['dissipated_energy']:.1f} lbf*in"
+            f"{row['name']}: peak displacement {format_value(row['peak_displacement'], 'inch', shown)}, "
+            f"peak force {format_value(row['peak_force'], 'force_pound', shown)}, "
+            f"peak z_vs {in_s2_to_g(row['peak_z_vs']):.3f} g, "
+            f"dissipated {format_value(row['dissipated_energy'], 'force_pound * inch', shown)}"
         )
     console.print(f"wrote {target}")

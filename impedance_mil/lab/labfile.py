@@ -10,6 +10,7 @@ Sections (TOML, every value with a unit or in the report's unit)::
     [controller]   loop_time, output_delay (samples), precision, feedback, substeps,
                    adc_bits, adc_range, dac_range
     [specimen]     kind (vessel, rigid, none or a specimen file), water_depth, article_weight
+    units          "us" or "si" (top level): the units of what the commands print
 
 ``--lab report`` (the default) is the report's setup: the lab sections of
 ``data/report/config.toml``.  A bare table file (``--table``) is a lab with
@@ -28,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from ..config import Field, parse_fields, quantity, read_toml
+from ..display import UnitSystem, unit_system
 from ..errors import ConfigError
 from ..plant import TableParameters
 from ..plant.nonlinear import NonlinearTable
@@ -139,6 +141,8 @@ class LabSetup:
     specimen : SpecimenSetup
     sources : mapping of str to str
         Where each value came from: ``file``, ``default`` or ``--set``.
+    units : UnitSystem
+        The units of what the lab's commands print (``units = "us" | "si"``, default us).
     """
 
     name: str
@@ -149,6 +153,7 @@ class LabSetup:
     controller: ControllerSetup
     specimen: SpecimenSetup
     sources: Mapping[str, str] = field(default_factory=dict)
+    units: UnitSystem = UnitSystem.US
 
     @property
     def defaults(self) -> tuple[str, ...]:
@@ -199,7 +204,7 @@ class LabSetup:
                 "article_weight": self.specimen.article_weight,
             },
             "sources": dict(self.sources),
-            "units": LAB_UNITS,
+            "output_units": self.units.value,
         }
 
 
@@ -271,6 +276,9 @@ def load_lab(
         data = {k: v for k, v in raw.items() if k not in _EXPERIMENT_SECTIONS or path != REPORT_CONFIG_PATH}
         base = path.parent
     where = f"{label}: "
+    units_given = "units" in data
+    units = unit_system(data.get("units"), f"{where}units") if units_given else UnitSystem.US
+    data = {k: v for k, v in data.items() if k != "units"}
     unknown = sorted(set(data) - set(LAB_SECTIONS))
     if unknown:
         raise ConfigError(f"{where}[{unknown[0]}]", "one of the sections " + ", ".join(LAB_SECTIONS))
@@ -283,7 +291,8 @@ def load_lab(
     sensors = sensor_setup(data.get("sensors"), params, controller.adc, where)
     sources["sensors"] = sensors.source
     specimen = _specimen(data.get("specimen"), base, where, sources)
-    return LabSetup(label, path, params, limits, sensors, controller, specimen, sources)
+    sources["units"] = "file" if units_given else "default"
+    return LabSetup(label, path, params, limits, sensors, controller, specimen, sources, units)
 
 
 def _has_sections(data: Mapping[str, Any]) -> bool:

@@ -30,6 +30,7 @@ from typing import Any
 import h5py
 import numpy as np
 
+from ..display import UnitSystem, format_value
 from ..errors import DataFileError
 from ..fileio import json_safe
 from ..units import in_s2_to_g
@@ -70,15 +71,13 @@ TRIP_KEYS = ("simulated_s", "aborted", "abort_reason")
 MIN_METRICS_S = 1.0
 
 
-def trip_text(run: RunResult) -> str | None:
-    """``"limit 'stroke' tripped at t = 2.6500 s (value -3.001 in)"``, or None for a completed run."""
+def trip_text(run: RunResult, units: UnitSystem = UnitSystem.US) -> str | None:
+    """``"limit 'stroke' tripped at t = 2.6500 s (value -3.001 in)"`` (the value in ``units``), or None."""
     if run.trip is None:
         return None
     unit = run.trip.unit
-    return (
-        f"limit '{run.trip.limit}' tripped at t = {run.trip.time_s:.4f} s "
-        f"(value {run.trip.value:.4g}{' ' + unit if unit else ''})"
-    )
+    value = format_value(run.trip.value, unit, units) if unit else f"{run.trip.value:.4g}"
+    return f"limit '{run.trip.limit}' tripped at t = {run.trip.time_s:.4f} s (value {value})"
 
 
 def trip_summary(run: RunResult) -> dict[str, Any]:

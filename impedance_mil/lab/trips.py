@@ -116,5 +116,5 @@ class Trip:
         return LimitTripped(self.cause, self.time_s, self.detail, value=self.value)
 
     def to_dict(self) -> dict:
-        """``{"limit", "time_s", "value"}``: the ``trip`` entry of JSON summaries."""
-        return {"limit": self.limit, "time_s": self.time_s, "value": self.value}
+        """``{"limit", "time_s", "value", "unit"}``: the ``trip`` entry of JSON summaries (internal units)."""
+        return {"limit": self.limit, "time_s": self.time_s, "value": self.value, "unit": self.unit}

@@ -32,10 +32,12 @@ import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
 import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
+from ..display import UnitSystem, display_unit, human_name  # noqa: E402
 from ..fileio import atomic_write_text  # noqa: E402
 from ..signals import response_spectrum  # noqa: E402
 from ..signals.motion import integrate_piecewise_linear  # noqa: E402
 from ..units import in_s2_to_g  # noqa: E402
+from .documents import express  # noqa: E402
 
 #: Line styles of the report's figures, by role.
 STYLES: dict[str, dict[str, Any]] = {
@@ -214,6 +216,8 @@ class RunView:
         The run configuration (shown flattened).
     status : str
         ``"completed"`` or why the run stopped (e.g. a tripped limit).
+    units : UnitSystem
+        The units the page shows (its arrays stay in internal units).
     """
 
     title: str
@@ -227,6 +231,7 @@ class RunView:
     metrics: Mapping[str, Any] = field(default_factory=dict)
     config: Mapping[str, Any] = field(default_factory=dict)
     status: str = "completed"
+    units: UnitSystem = UnitSystem.US
 
     @property
     def time_step(self) -> float:
@@ -244,6 +249,7 @@ class RunView:
         status: str = "completed",
         m_vs: float | None = None,
         model_loop: tuple[Any, Any] | None = None,
+        units: UnitSystem = UnitSystem.US,
     ) -> RunView:
         """Build a view from named channel arrays (the lab's channel names).
 
@@ -286,6 +292,7 @@ class RunView:
             metrics=dict(metrics or {}),
             config=dict(config or {}),
             status=status,
+            units=units,
         )
 
     @classmethod
@@ -297,6 +304,7 @@ class RunView:
         metrics: Mapping[str, Any] | None = None,
         m_vs: float | None = None,
         model_loop: tuple[Any, Any] | None = None,
+        units: UnitSystem = UnitSystem.US,
     ) -> RunView:
         """Build a view from a run result (anything with ``channels``, ``config`` and ``trip``).
 
@@ -324,6 +332,7 @@ class RunView:
             status=status,
             m_vs=m_vs,
             model_loop=model_loop,
+            units=units,
         )
 
 
@@ -331,7 +340,7 @@ def history_figure(view: RunView) -> Figure:
     """Acceleration histories [g] (table, target, input) and the other histories of the run."""
     extra = [(name, values, unit) for name, (values, unit) in view.histories.items()]
     if view.table_disp is not None:
-        extra.insert(0, ("table displacement", view.table_disp, "in"))
+        extra.insert(0, ("table displacement", view.table_disp, "inch"))
     fig, axes = new_figure(rows=1 + len(extra), height=2.4)
     ax = axes[0]
     if view.ground_accel is not None and view.ground_accel is not view.target_accel:
@@ -342,8 +351,9 @@ def history_figure(view: RunView) -> Figure:
     ax.set_ylabel("acceleration [g]")
     ax.legend(loc="upper right", fontsize="small")
     for axis, (name, values, unit) in zip(axes[1:], extra):
-        axis.plot(view.time_s, values, **STYLES["table"])
-        axis.set_ylabel(f"{name} [{unit}]")
+        shown = display_unit(unit, view.units)
+        axis.plot(view.time_s, shown(values), **STYLES["table"])
+        axis.set_ylabel(f"{name} [{shown.name}]")
     for axis in axes:
         axis.grid(True, alpha=0.3)
     axes[-1].set_xlabel("time [s]")
@@ -372,16 +382,23 @@ def spectra_figure(view: RunView, damping: float = 0.05) -> Figure:
     return fig
 
 
-def loops_figure(loops: Sequence[ForceDisplacement]) -> Figure:
-    """Isolator force [lbf] against displacement [in]."""
+def loops_figure(loops: Sequence[ForceDisplacement], units: UnitSystem = UnitSystem.US) -> Figure:
+    """Isolator force against displacement (internal in, lbf), drawn in ``units``."""
     fig, (ax,) = new_figure(width=5.0, height=4.0)
+    disp, force = display_unit("in", units), display_unit("lbf", units)
     for loop in loops:
-        ax.plot(loop.displacement, loop.force, label=loop.label, **STYLES.get(loop.role, STYLES["other"]))
-    ax.set_xlabel("isolator displacement [in]")
-    ax.set_ylabel("isolator force [lbf]")
+        style = STYLES.get(loop.role, STYLES["other"])
+        ax.plot(disp(loop.displacement), force(loop.force), label=loop.label, **style)
+    ax.set_xlabel(f"isolator displacement [{disp.name}]")
+    ax.set_ylabel(f"isolator force [{force.name}]")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize="small")
     return fig
+
+
+def _with_unit(key: str, unit: str | None) -> str:
+    """``peak_table_disp_mm [mm]``: a metric's name and its unit (none for pure numbers)."""
+    return key if unit in (None, "1", "unknown") else f"{key} [{human_name(unit)}]"
 
 
 def render_run_html(view: RunView, extra_sections: Sequence[str] = ()) -> str:
@@ -391,7 +408,13 @@ def render_run_html(view: RunView, extra_sections: Sequence[str] = ()) -> str:
         f"time step {fmt_number(view.time_step)} s.</p>"
     ]
     if view.metrics:
-        sections.append("<h2>Metrics</h2>" + key_value_table(view.metrics, ("metric", "value")))
+        shown = express(view.metrics, view.units)
+        rows = {
+            _with_unit(k, shown["units"].get(k)): v
+            for k, v in shown.items()
+            if k not in ("units", "unit_system")
+        }
+        sections.append("<h2>Metrics</h2>" + key_value_table(rows, ("metric", "value")))
     sections.extend(extra_sections)
     if view.time_s.size > 1:
         sections.append(
@@ -414,7 +437,7 @@ def render_run_html(view: RunView, extra_sections: Sequence[str] = ()) -> str:
         sections.append(
             "<h2>Force-displacement</h2>"
             + figure_png(
-                loops_figure(view.loops),
+                loops_figure(view.loops, view.units),
                 "isolator force-displacement loops",
                 "Isolator force against displacement (report Section 9.3, panel c).",
             )

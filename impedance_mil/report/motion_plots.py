@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
 from matplotlib.backend_bases import FigureCanvasBase  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
+from ..display import UnitSystem, display_unit  # noqa: E402
 from ..errors import ConfigError  # noqa: E402
 from ..fileio import atomic_path  # noqa: E402
 from ..signals import GroundMotion, Spectrum  # noqa: E402
@@ -52,8 +53,8 @@ def plot_spectra(spectra: Sequence[Spectrum], labels: Sequence[str] | None = Non
     return fig
 
 
-def plot_histories(motion: GroundMotion, title: str = "") -> Figure:
-    """Displacement [in], velocity [in/s] and acceleration [g] of a motion (report Figures 8.2 a-c).
+def plot_histories(motion: GroundMotion, title: str = "", units: UnitSystem = UnitSystem.US) -> Figure:
+    """Displacement, velocity (in ``units``) and acceleration [g] of a motion (report Figures 8.2 a-c).
 
     Displacement and velocity are those of the baseline-corrected motion
     (:meth:`GroundMotion.baseline_corrected`), the ones the table runs.
@@ -61,9 +62,10 @@ def plot_histories(motion: GroundMotion, title: str = "") -> Figure:
     corrected = motion.baseline_corrected()
     t = corrected.time
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(6.4, 6.0), layout="constrained")
+    disp, vel = display_unit("inch", units), display_unit("inch / second", units)
     rows = [
-        (corrected.displacement(), "Displacement [in]"),
-        (corrected.velocity(), "Velocity [in/s]"),
+        (disp(corrected.displacement()), f"Displacement [{disp.name}]"),
+        (vel(corrected.velocity()), f"Velocity [{vel.name}]"),
         (in_s2_to_g(corrected.accel), "Acceleration [g]"),
     ]
     for ax, (values, label) in zip(axes, rows):

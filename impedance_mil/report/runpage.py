@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from ..display import UnitSystem
 from ..lab.results import RunResult, load_run
 from ..lab.runfile import MODEL_LOOP, MODEL_LOOP_KEYS, basemat_mass, read_summary, recomputed_summary
 from .html import RunView, render_run_html, write_html
@@ -45,20 +46,25 @@ def write_run_page(
     path: str | Path,
     title: str = "",
     loop: Mapping[str, Any] | None = None,
+    units: UnitSystem = UnitSystem.US,
 ) -> Path:
     """Render the page of ``run`` with the metrics of ``summary`` and write it atomically.
 
     ``loop`` (:func:`impedance_mil.lab.runfile.model_loop`) adds the VS model's
     force-displacement loop, dashed red, to the table's (report Figures 9-2 to
-    9-28, panel c).
+    9-28, panel c).  The page shows ``units``; the run stays in internal units.
     """
     metrics = {key: summary[key] for key in PAGE_METRICS if summary.get(key) is not None}
     model = (loop[MODEL_LOOP_KEYS[0]], loop[MODEL_LOOP_KEYS[1]]) if loop else None
-    view = RunView.from_result(run, title=title, metrics=metrics, m_vs=basemat_mass(run), model_loop=model)
+    view = RunView.from_result(
+        run, title=title, metrics=metrics, m_vs=basemat_mass(run), model_loop=model, units=units
+    )
     return write_html(path, render_run_html(view))
 
 
-def run_page(run_file: str | Path, path: str | Path, title: str = "") -> Path:
+def run_page(
+    run_file: str | Path, path: str | Path, title: str = "", units: UnitSystem = UnitSystem.US
+) -> Path:
     """The page of a run file: its stored summary and VS loop, or metrics recomputed without one.
 
     Raises
@@ -68,4 +74,4 @@ def run_page(run_file: str | Path, path: str | Path, title: str = "") -> Path:
     """
     run = load_run(run_file)
     summary, arrays = read_summary(run_file)
-    return write_run_page(run, summary or recomputed_summary(run), path, title, arrays.get(MODEL_LOOP))
+    return write_run_page(run, summary or recomputed_summary(run), path, title, arrays.get(MODEL_LOOP), units)

@@ -15,28 +15,38 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from ..display import UnitSystem, display_unit, format_value  # noqa: E402
 from ..errors import ConfigError  # noqa: E402
 from ..plant import LinearTable, TableParameters  # noqa: E402
 from ..plant.tuning import sweep  # noqa: E402
 from .motion_plots import save_figure  # noqa: E402
 
-#: The six transfer functions of Eq 4-15, with axis labels.
+#: The six transfer functions of Eq 4-15: output, input, label.
 SIX_TFS = (
-    ("z", "u", "z/u [in/s^2 / in]"),
-    ("x", "u", "x/u [in/in]"),
-    ("dp", "u", "dP/u [psi/in]"),
-    ("z", "w", "z/w [in/s^2 / lbf]"),
-    ("x", "w", "x/w [in/lbf]"),
-    ("dp", "w", "dP/w [psi/lbf]"),
+    ("z", "u", "z/u"),
+    ("x", "u", "x/u"),
+    ("dp", "u", "dP/u"),
+    ("z", "w", "z/w"),
+    ("x", "w", "x/w"),
+    ("dp", "w", "dP/w"),
 )
+
+#: Internal unit of each signal of the table model.
+SIGNAL_UNITS = {"z": "inch / second**2", "x": "inch", "dp": "psi", "u": "inch", "w": "force_pound"}
 #: Default sweep ranges for root loci (internal units).
 LOCUS_RANGE = {"Ke": 45.0, "Kp": 0.004, "loop_time": 2e-3}
 #: Resolution of the saved figures [dots per inch].
 DPI = 110
 
 
-def bode_figure(p: TableParameters, delay: str = "first-order", fmin: float = 0.1, fmax: float = 200.0):
-    """Figure with magnitude and phase of the six TFs (frequencies [Hz])."""
+def bode_figure(
+    p: TableParameters,
+    delay: str = "first-order",
+    fmin: float = 0.1,
+    fmax: float = 200.0,
+    units: UnitSystem = UnitSystem.US,
+):
+    """Figure with magnitude (in ``units``) and phase of the six TFs (frequencies [Hz])."""
     if not (0 < fmin < fmax):
         raise ConfigError("fmin/fmax", "0 < fmin < fmax [Hz]", (fmin, fmax))
     tbl = LinearTable(p, delay=delay)
@@ -48,14 +58,16 @@ def bode_figure(p: TableParameters, delay: str = "first-order", fmin: float = 0.
         else:
             h = tbl.state_space().frequency_response(out, inp, f)
         row, col = 2 * (k // 3), k % 3
-        axes[row, col].loglog(f, np.abs(h))
-        axes[row, col].set_title(label, fontsize=9)
+        shown_out, shown_in = display_unit(SIGNAL_UNITS[out], units), display_unit(SIGNAL_UNITS[inp], units)
+        axes[row, col].loglog(f, np.abs(h) * shown_out.factor / shown_in.factor)
+        axes[row, col].set_title(f"{label} [{shown_out.name} / {shown_in.name}]", fontsize=9)
         axes[row + 1, col].semilogx(f, np.degrees(np.unwrap(np.angle(h))))
         axes[row + 1, col].set_ylabel("phase [deg]", fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel("frequency [Hz]")
     fig.suptitle(
-        f"Shake-table transfer functions (Eq 4-15), Ke={p.Ke:g} V/in, Kp={p.Kp:g} V/psi, "
+        f"Shake-table transfer functions (Eq 4-15), Ke={format_value(p.Ke, 'volt / inch', units)}, "
+        f"Kp={format_value(p.Kp, 'volt / psi', units)}, "
         f"loop time {p.loop_time * 1e6:g} us, delay: {delay}",
         fontsize=10,
     )
@@ -64,10 +76,15 @@ def bode_figure(p: TableParameters, delay: str = "first-order", fmin: float = 0.
 
 
 def save_bode(
-    p: TableParameters, path: Path, delay: str = "first-order", fmin: float = 0.1, fmax: float = 200.0
+    p: TableParameters,
+    path: Path,
+    delay: str = "first-order",
+    fmin: float = 0.1,
+    fmax: float = 200.0,
+    units: UnitSystem = UnitSystem.US,
 ) -> Path:
     """Write :func:`bode_figure` to ``path`` (format from the suffix, PNG without one)."""
-    return save_figure(bode_figure(p, delay, fmin, fmax), path, dpi=DPI)
+    return save_figure(bode_figure(p, delay, fmin, fmax, units), path, dpi=DPI)
 
 
 def root_locus_figure(p: TableParameters, name: str, upper: float | None = None, points: int = 60):

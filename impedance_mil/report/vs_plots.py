@@ -11,6 +11,7 @@ from collections.abc import Sequence
 import matplotlib.pyplot as plt
 from matplotlib.figure import Figure
 
+from ..display import UnitSystem, display_unit  # noqa: E402
 from ..errors import ConfigError
 from ..units import in_s2_to_g
 from ..virtual import VSResponse
@@ -24,6 +25,7 @@ def plot_loops(
     labels: Sequence[str],
     axial_loads: Sequence[float] | None = None,
     title: str = "",
+    units: UnitSystem = UnitSystem.US,
 ) -> Figure:
     """Isolator force against displacement, and the basemat acceleration history.
 
@@ -38,6 +40,8 @@ def plot_loops(
         it, as in Figure 9.1 (shear force / axial load).
     title : str
         Figure title.
+    units : UnitSystem
+        Units of the axes (the responses are in internal units).
 
     Raises
     ------
@@ -49,13 +53,16 @@ def plot_loops(
     if axial_loads is not None and len(axial_loads) != len(responses):
         raise ConfigError("axial_loads", f"one axial load per response ({len(responses)})", len(axial_loads))
     fig, (ax_loop, ax_z) = plt.subplots(1, 2, figsize=(10.0, 4.2), constrained_layout=True)
+    disp, shear = display_unit("inch", units), display_unit("force_pound", units)
     for k, (r, label) in enumerate(zip(responses, labels)):
-        force = r.force if axial_loads is None else r.force / axial_loads[k]
-        ax_loop.plot(r.displacement, force, lw=1.0, label=label)
+        force = shear(r.force) if axial_loads is None else r.force / axial_loads[k]
+        ax_loop.plot(disp(r.displacement), force, lw=1.0, label=label)
         ax_z.plot(r.time, in_s2_to_g(r.z_vs), lw=0.8, label=f"{label} z_vs")
     ax_z.plot(responses[0].time, in_s2_to_g(responses[0].a_g), "k", lw=0.6, label="a_g")
-    ax_loop.set_xlabel("Displacement relative to ground [in]")
-    ax_loop.set_ylabel("Shear force / axial load [-]" if axial_loads is not None else "Shear force [lbf]")
+    ax_loop.set_xlabel(f"Displacement relative to ground [{disp.name}]")
+    ax_loop.set_ylabel(
+        "Shear force / axial load [-]" if axial_loads is not None else f"Shear force [{shear.name}]"
+    )
     ax_loop.grid(True, alpha=0.3)
     ax_loop.legend(fontsize=8)
     ax_z.set_xlabel("Time [s]")

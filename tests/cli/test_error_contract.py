@@ -32,7 +32,7 @@ BAD_PATH = str(Path(__file__).resolve() / "not-a-folder")
 #: A value no numeric option accepts.
 NOT_A_NUMBER = "not-a-number"
 #: Commands whose parameters are all flags (checked, so that a new value-less command is noticed).
-WITHOUT_VALUES = {("campaign", "list"), ("motion", "list"), ("vs", "list")}
+WITHOUT_VALUES = {("campaign", "list"), ("motion", "list")}
 
 
 def _commands(command, path=()):
