@@ -212,7 +212,7 @@ def _object(
             out[key] = [_object(v, f"{here}[{i}]", system, units, given) for i, v in enumerate(value)]
         else:
             out[key] = value
-    if sibling is not None and sibling_used and "unit" in obj:
+    if sibling is not None and sibling_used and "unit" in obj and system is not UnitSystem.US:
         out["unit"] = _shown_name(display_unit(_pint(sibling), system).name)
     return out
 
