@@ -5,7 +5,8 @@ The kernels of one tick (the order is written once, in
 
 1. **sense** (:func:`plant_sense`): the sensors of a
    :class:`~impedance_mil.specimens.sensors.SensorSuite` read the plant at t_k
-   (Table 7.1 calibration, noise, 16-bit quantization, range): ``x``, ``dP``,
+   (Table 7.1 calibration, an optional anti-alias filter, noise, 16-bit
+   quantization, range): ``x``, ``dP``,
    ``z`` and the load-cell force ``w_LC``; ``w_FE = m_st z - A_p dP`` from force
    equilibrium (Section 8.3.2);
 2. **safety** (:func:`check_limits`): stroke, velocity, actuator force, valve
@@ -56,17 +57,22 @@ from ..plant.nonlinear import (
     table_acceleration,
     valve_command,
 )
-from ..specimens.sensors import QUANTITIES, force_from_equilibrium, load_cell_force_kernel, measure_kernel
-from .stepping import SPEC_BANK, SPEC_CSR, coupled_derivative, plant_advance, specimen_force_state
+from ..specimens.sensors import force_from_equilibrium, load_cell_force_kernel, measure_kernel, read_channel
+from .stepping import (
+    Q_DP,
+    Q_FORCE,
+    Q_W,
+    Q_X,
+    Q_Z,
+    SPEC_BANK,
+    SPEC_CSR,
+    coupled_derivative,
+    filter_sense,
+    plant_advance,
+    specimen_force_state,
+)
 from .structures import Measurements, PlantTruth, record_loop
 from .trips import TripCause
-
-# Slots of the true quantities the sensors measure (the order of QUANTITIES).
-_Q_Z = QUANTITIES.index("table_acceleration")
-_Q_X = QUANTITIES.index("table_displacement")
-_Q_DP = QUANTITIES.index("differential_pressure")
-_Q_FORCE = QUANTITIES.index("actuator_force")
-_Q_W = QUANTITIES.index("interface_force")
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -77,18 +83,20 @@ def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
     :class:`~impedance_mil.lab.structures.SpecimenArrays`, ``sensors`` a
     :class:`~impedance_mil.lab.structures.SensorArrays`, ``noise_row`` one
     standard-normal draw per channel; ``readings`` receives every channel's
-    reading; ``time_s`` [s] is stamped on the measurements.
+    reading; ``time_s`` [s] is stamped on the measurements.  A channel with an
+    anti-alias filter reads the filter's output (``sensors.filters``, brought
+    to this instant by :func:`~impedance_mil.lab.stepping.filter_sense`).
     """
     ws = specimen_force_state(specimen.C, y[N_TABLE_STATES:])
     z = table_acceleration(pa, y, ws, specimen.D)
     w = ws + specimen.D * z
     dp = y[IX_P1] - y[IX_P2]
     q = sensors.quantities
-    q[_Q_Z] = z
-    q[_Q_X] = y[IX_X]
-    q[_Q_DP] = dp
-    q[_Q_FORCE] = pa[PA_AREA] * dp
-    q[_Q_W] = w
+    q[Q_Z] = z
+    q[Q_X] = y[IX_X]
+    q[Q_DP] = dp
+    q[Q_FORCE] = pa[PA_AREA] * dp
+    q[Q_W] = w
     measure_kernel(
         q,
         noise_row,
@@ -102,6 +110,22 @@ def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
         sensors.v_high,
         readings,
     )
+    f = sensors.filters
+    if f.channel.shape[0] > 0:
+        # A filtered channel reads its filter's output instead of the true value.
+        filter_sense(f, q)
+        for i in range(f.channel.shape[0]):
+            c = f.channel[i]
+            readings[c] = read_channel(
+                f.state[i, 0],
+                noise_row[c],
+                sensors.scale[c],
+                sensors.offset[c],
+                sensors.noise_rms[c],
+                sensors.lsb[c],
+                sensors.v_low[c],
+                sensors.v_high[c],
+            )
     z_meas = readings[sensors.z_channel]
     dp_meas = readings[sensors.dp_channel]
     m = Measurements(
@@ -286,6 +310,7 @@ def advance(plant):
         plant.table[PA_LOOP],
         plant.substeps,
         plant.work,
+        plant.sensors.filters,
     )
 
 

@@ -178,7 +178,7 @@ def simulate(
         raise ConfigError("feedback", "'lc' (load cells) or 'fe' (force equilibrium)", feedback)
     nsub, sub_cfg = resolve_substeps(substeps, table, specimen)
     sensors = sensors or default_sensors()
-    sens = sensor_arrays(sensors, feedback, quantize)
+    sens = sensor_arrays(sensors, feedback, quantize, table.loop_time / nsub)
     limits = limits or SafetyLimits()
     mode, ag, cmd = _mode_and_inputs(command, a_g, runtime, table.loop_time)
     if mode == MODE_MIL and getattr(runtime, "python_vs", False):

@@ -154,7 +154,7 @@ class VirtualTable:
             table=table.parameter_array(),
             y=np.zeros(n),
             specimen=spec,
-            sensors=sensor_arrays(self.sensors, feedback, quantize),
+            sensors=sensor_arrays(self.sensors, feedback, quantize, self.loop_time / self.substeps),
             limits=(limits or SafetyLimits()).kernel_values(table),
             substeps=self.substeps,
             noise=np.zeros((1, self.sensors.n_channels), np.float32),
@@ -173,6 +173,7 @@ class VirtualTable:
         self.y[:] = 0.0
         self.y[:N_TABLE_STATES] = self.table.equilibrium_state()
         self.plant.held[:] = np.zeros(1, HELD_STATE)
+        self.plant.sensors.filters.reset()
         self._rng = np.random.default_rng(self.seed)
         self._tick = 0
         self._read: tuple | None = None
@@ -213,7 +214,10 @@ class VirtualTable:
 
     def advance(self) -> None:
         p = self.plant
-        plant_advance(p.table, p.y, *p.specimen, self.current, self.loop_time, self.substeps, p.work)
+        self._sense()  # the filters are brought to this instant by the sensing, read or not
+        plant_advance(
+            p.table, p.y, *p.specimen, self.current, self.loop_time, self.substeps, p.work, p.sensors.filters
+        )
         self._step()
 
     def _step(self) -> None:

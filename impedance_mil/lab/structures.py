@@ -11,7 +11,7 @@ compiled call, which allocates nothing.
   interface's answer, also built by the compiled sensing stage);
 * :class:`PlantTruth` -- the true plant quantities of one loop (recorded beside
   the measurements when the plant knows them);
-* :class:`SpecimenArrays`, :class:`SensorArrays`, :class:`LimitValues` and
+* :class:`SpecimenArrays`, :class:`SensorArrays` (with its :class:`FilterArrays`), :class:`LimitValues` and
   :data:`HELD_STATE` -- the pieces of the compiled :class:`VirtualPlant`;
 * :class:`LoopControl` -- mode, inputs and the controller (and VS) arrays;
 * :class:`Channels` and :class:`Records` -- the records, one array per
@@ -117,6 +117,56 @@ class SpecimenArrays(NamedTuple):
     osc_c: np.ndarray
 
 
+class FilterArrays(NamedTuple):
+    """The channels' anti-alias filters for the sensing and stepping kernels, one entry per filter.
+
+    Each filter is a channel's continuous Butterworth low-pass
+    (:meth:`~impedance_mil.specimens.sensors.Sensor.anti_alias_filter`, two
+    states, a first-order one padded with a state that stays 0), driven by the
+    true channel value ``gain * quantities[quantity_index]`` and discretized
+    exactly over one RK4 substep with the input linear between the substep's
+    ends (first-order hold): ``state <- phi state + g0 u(start) + g1 u(end)``.
+    The filtered value is ``state[:, 0]``.  ``channel`` is the filtered
+    channel's index in the suite; ``state`` (nf, 2) and ``previous`` (nf,),
+    the input at the last substep boundary, are written in place; ``primed``
+    (1,) is 0 until the first sensing sets each filter at rest at its input.
+    Built by :func:`impedance_mil.lab.setup.filter_arrays`; a suite without
+    filters has nf = 0.
+    """
+
+    channel: np.ndarray
+    quantity_index: np.ndarray
+    gain: np.ndarray
+    phi: np.ndarray
+    g0: np.ndarray
+    g1: np.ndarray
+    state: np.ndarray
+    previous: np.ndarray
+    primed: np.ndarray
+
+    @classmethod
+    def none(cls) -> FilterArrays:
+        """No filters (nf = 0): every channel reads its value as it is."""
+        index = np.zeros(0, np.int64)
+        return cls(
+            index,
+            index.copy(),
+            np.zeros(0),
+            np.zeros((0, 2, 2)),
+            np.zeros((0, 2)),
+            np.zeros((0, 2)),
+            np.zeros((0, 2)),
+            np.zeros(0),
+            np.zeros(1, np.int64),
+        )
+
+    def reset(self) -> None:
+        """Back to unprimed: the next sensing sets each filter at rest at its input."""
+        self.state[:] = 0.0
+        self.previous[:] = 0.0
+        self.primed[:] = 0
+
+
 class SensorArrays(NamedTuple):
     """A :class:`~impedance_mil.specimens.sensors.SensorSuite` for the sensing kernel.
 
@@ -126,7 +176,8 @@ class SensorArrays(NamedTuple):
     ``v_high`` [V] and ``load_cell_weights``; ``z_channel``, ``x_channel`` and
     ``dp_channel`` are the first channels measuring the table acceleration,
     displacement and differential pressure; ``quantities`` is the scratch the
-    kernel fills with the true quantities before measuring them.  Built by
+    kernel fills with the true quantities before measuring them; ``filters``
+    the channels' anti-alias filters (:class:`FilterArrays`).  Built by
     :func:`impedance_mil.lab.setup.sensor_arrays`.
     """
 
@@ -143,6 +194,7 @@ class SensorArrays(NamedTuple):
     x_channel: int
     dp_channel: int
     quantities: np.ndarray
+    filters: FilterArrays
 
 
 class LimitValues(NamedTuple):
