@@ -14,8 +14,10 @@ The kernels of one tick (the order is written once, in
    :class:`~impedance_mil.lab.trips.TripCause`;
 3. **controller** (:func:`track_step`, :func:`mil_step`): the runtime kernels
    of :mod:`impedance_mil.implement`, the VS through its tick;
-4. **hydraulic loop** (:func:`hydraulic_step`):
-   ``u_v(k) = K_e (u(k) - x_m(k-1)) - K_p dP_m(k-1)``, held over the loop (ZOH);
+4. **hydraulic loop** (:func:`hydraulic_command`):
+   ``u_v(k) = K_e (u(k) - x_m(k-1)) - K_p dP_m(k-1)``, applied over loop
+   ``k + N - 1`` (N the controller's output delay in loops, 1 for the
+   report's) and held over it (ZOH);
 5. **advance** (:func:`~impedance_mil.lab.stepping.plant_advance`): the
    continuous plant (nonlinear table + specimen state space) integrated over
    T with fixed RK4 substeps.
@@ -179,17 +181,29 @@ def check_limits(pa, limits, y, m, held):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def hydraulic_step(pa, u, x_prev, dp_prev, sat_ticks):
-    """Step 4 of a tick: returns ``(u_v [V], saturated ticks, valve current [mA])``.
+def valve_output(pa, uv, sat_ticks):
+    """The valve command ``uv`` [V] as the valve receives it: ``(saturated ticks, valve current [mA])``.
 
-    :func:`~impedance_mil.plant.nonlinear.valve_command` for the position
-    command ``u`` [in] and the previous loop's measurements ``x_prev`` [in],
-    ``dp_prev`` [psi]; ``sat_ticks`` counts the consecutive loops with ``u_v``
-    at its limit (reset when it leaves it), as :func:`check_limits` reads it.
+    ``sat_ticks`` counts the consecutive loops with ``uv`` at its limit (reset
+    when it leaves it), as :func:`check_limits` reads it.
     """
-    uv = valve_command(pa, u, x_prev, dp_prev)
     sat = sat_ticks + 1 if abs(uv) >= pa[PA_UVMAX] else 0
-    return uv, sat, pa[PA_KV] * uv
+    return sat, pa[PA_KV] * uv
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def delayed_output(line, h, uv):
+    """Put this loop's valve command ``uv`` [V] into the ring buffer ``line``; return the one due now.
+
+    ``line`` holds the commands of the last N = ``line.size`` loops (the
+    controller's output delay in loops) and ``h.head`` the slot of the next
+    write.  The command computed at loop k is applied over loop k + N - 1:
+    N = 1 (the report's controller) applies it at once, the previous loop's
+    measurements in it making the one-loop delay of the feedback.
+    """
+    line[h.head] = uv
+    h.head = (h.head + 1) % line.shape[0]
+    return line[h.head]
 
 
 # ----------------------------------------------------------------- the stages of a tick
@@ -240,19 +254,25 @@ def mil_step(control, vs_tick, a_g, w):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def hydraulic_command(pa, limits, held, m, u):
-    """:func:`hydraulic_step` for the command ``u`` [in] of the loop read as ``m``; updates ``held``.
+def hydraulic_command(pa, limits, held, line, m, u):
+    """Step 4 for the command ``u`` [in] of the loop read as ``m``; updates ``held`` and ``line``.
 
-    ``held`` is the one-element :data:`~impedance_mil.lab.structures.HELD_STATE`
-    array: the previous loop's measurements feed the valve command, this loop's
-    replace them.  The running averages of the valve interlocks (saturation
-    duty, mean-square current and mean-square slew of the valve command) are
-    exponentially weighted with the time constant ``limits.interlock_window``
-    [s], as a servo controller's duty and rms monitors are.
+    :func:`~impedance_mil.plant.nonlinear.valve_command` of ``u`` and the
+    previous loop's measurements ``x_prev`` [in], ``dp_prev`` [psi], through
+    the output delay (:func:`delayed_output`, ring buffer ``line``), then
+    :func:`valve_output`.  ``held`` is the one-element
+    :data:`~impedance_mil.lab.structures.HELD_STATE` array: the previous
+    loop's measurements feed the valve command, this loop's replace them.
+    The running averages of the valve interlocks (saturation duty,
+    mean-square current and mean-square slew of the valve command the valve
+    receives) are exponentially weighted with the time constant
+    ``limits.interlock_window`` [s], as a servo controller's duty and rms
+    monitors are.
     """
     h = held[0]
     loop = pa[PA_LOOP]
-    uv, sat, current = hydraulic_step(pa, u, h.x_prev, h.dp_prev, h.sat)
+    uv = delayed_output(line, h, valve_command(pa, u, h.x_prev, h.dp_prev))
+    sat, current = valve_output(pa, uv, h.sat)
     weight = min(1.0, loop / limits.interlock_window)
     slew = (uv - h.u_v) / loop
     h.duty += weight * ((1.0 if sat > 0 else 0.0) - h.duty)
@@ -268,7 +288,7 @@ def hydraulic_command(pa, limits, held, m, u):
 @njit(cache=True, inline="always", error_model="numpy")
 def command(plant, m, u):
     """Stage 4 on a :class:`VirtualPlant`: the hydraulic loop (:func:`hydraulic_command`)."""
-    hydraulic_command(plant.table, plant.limits, plant.held, m, u)
+    hydraulic_command(plant.table, plant.limits, plant.held, plant.output_line, m, u)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -321,8 +341,8 @@ __all__ = [
     "check_limits",
     "command",
     "coupled_derivative",
+    "delayed_output",
     "hydraulic_command",
-    "hydraulic_step",
     "mil_step",
     "plant_advance",
     "plant_sense",
@@ -333,4 +353,5 @@ __all__ = [
     "sense_and_check",
     "track_step",
     "truth",
+    "valve_output",
 ]

@@ -179,6 +179,8 @@ class LabSetup:
                         "resolution": abs(s.scale) * s.lsb_v,
                         "noise_rms": abs(s.scale) * s.noise_rms_v,
                         "share": s.gain,
+                        "bandwidth": s.bandwidth_hz,
+                        "filter_order": s.filter_order if s.bandwidth_hz is not None else None,
                     }
                     for s in self.sensors.suite.sensors
                 ],
@@ -218,6 +220,7 @@ LAB_UNITS = {
     "limits.interlock_window": "s",
     "limits.divergence": "in",
     "sensors.channels.range": "unit of the channel",
+    "sensors.channels.bandwidth": "Hz",
     "controller.loop_time": "s",
     "controller.output_delay": "loops",
     "controller.adc_range": "V",

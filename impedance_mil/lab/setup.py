@@ -58,6 +58,25 @@ def draw_noise(rng: np.random.Generator, suite: SensorSuite, n_loops: int | None
     return rng.standard_normal(shape, dtype=np.float32)
 
 
+#: Longest output delay a controller may have [loops] (a buffer of this many commands).
+MAX_OUTPUT_DELAY = 100
+
+
+def output_line(output_delay: int) -> np.ndarray:
+    """The ring buffer of the output delay: ``output_delay`` valve commands [V], zero (valve at rest).
+
+    Raises
+    ------
+    ConfigError
+        ``output_delay`` is not a whole number of loops from 1 to :data:`MAX_OUTPUT_DELAY`.
+    """
+    if isinstance(output_delay, bool) or not isinstance(output_delay, (int, np.integer)):
+        raise ConfigError("output_delay", f"a whole number of loops from 1 to {MAX_OUTPUT_DELAY}", output_delay)
+    if not 1 <= output_delay <= MAX_OUTPUT_DELAY:
+        raise ConfigError("output_delay", f"a whole number of loops from 1 to {MAX_OUTPUT_DELAY}", output_delay)
+    return np.zeros(int(output_delay))
+
+
 def first_order_hold(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Exact discretization of ``x' = A x + B u`` over ``h`` [s] with ``u`` linear in between.
 

@@ -73,7 +73,7 @@ class PlantTruth(NamedTuple):
     w : float
         Force of the test article on the table [lbf].
     u_v : float
-        Valve command of this loop [V].
+        Valve command the valve receives this loop [V].
     current : float
         Valve current of this loop [mA].
     """
@@ -224,8 +224,10 @@ class LimitValues(NamedTuple):
 #: What the virtual plant carries from one stage, or loop, to the next (a one-element
 #: record array, written in place): the previous loop's measured ``x_prev`` [in] and
 #: ``dp_prev`` [psi] (the hydraulic loop's feedback), ``sat`` (consecutive loops with
-#: the valve command at its limit), this loop's valve command ``u_v`` [V] and current
-#: [mA], the true ``z`` [in/s^2] and ``w`` [lbf] of this loop's sensing, and the
+#: the valve command at its limit), the valve command ``u_v`` [V] and current [mA]
+#: the valve receives this loop (computed N - 1 loops ago, N the output delay), the
+#: slot ``head`` of the next write into the output delay's ring buffer
+#: (``VirtualPlant.output_line``), the true ``z`` [in/s^2] and ``w`` [lbf] of this loop's sensing, and the
 #: running averages of the valve interlocks (exponentially weighted over
 #: ``LimitValues.interlock_window``): ``duty`` (fraction of loops saturated),
 #: ``current_sq`` [mA^2] and ``slew_sq`` [(V/s)^2] (the command's loop-to-loop change).
@@ -241,6 +243,7 @@ HELD_STATE = np.dtype(
         ("duty", np.float64),
         ("current_sq", np.float64),
         ("slew_sq", np.float64),
+        ("head", np.int64),
     ],
     align=True,
 )
@@ -269,6 +272,9 @@ class VirtualPlant(NamedTuple):
         Scratch: every channel's reading of the current loop.
     held : ndarray (1,) of :data:`HELD_STATE`
         State held between stages and loops.
+    output_line : ndarray (N,)
+        The valve commands [V] of the last N loops, N the controller's output
+        delay in loops (a ring buffer; N = 1: the command is applied at once).
     """
 
     table: np.ndarray
@@ -281,6 +287,7 @@ class VirtualPlant(NamedTuple):
     work: np.ndarray
     readings: np.ndarray
     held: np.ndarray
+    output_line: np.ndarray
 
 
 class LoopControl(NamedTuple):
