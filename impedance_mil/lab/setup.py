@@ -71,9 +71,13 @@ def output_line(output_delay: int) -> np.ndarray:
         ``output_delay`` is not a whole number of loops from 1 to :data:`MAX_OUTPUT_DELAY`.
     """
     if isinstance(output_delay, bool) or not isinstance(output_delay, (int, np.integer)):
-        raise ConfigError("output_delay", f"a whole number of loops from 1 to {MAX_OUTPUT_DELAY}", output_delay)
+        raise ConfigError(
+            "output_delay", f"a whole number of loops from 1 to {MAX_OUTPUT_DELAY}", output_delay
+        )
     if not 1 <= output_delay <= MAX_OUTPUT_DELAY:
-        raise ConfigError("output_delay", f"a whole number of loops from 1 to {MAX_OUTPUT_DELAY}", output_delay)
+        raise ConfigError(
+            "output_delay", f"a whole number of loops from 1 to {MAX_OUTPUT_DELAY}", output_delay
+        )
     return np.zeros(int(output_delay))
 
 
