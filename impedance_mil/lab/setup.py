@@ -115,24 +115,23 @@ def filter_arrays(suite: SensorSuite, substep_s: float | None) -> FilterArrays:
     phase error of the size of the filter's own lag at tens of Hz); the
     linear hold has no such delay.
     """
-    filtered = [i for i, s in enumerate(suite.sensors) if s.bandwidth_hz is not None]
+    filters = [(i, s, s.anti_alias_filter()) for i, s in enumerate(suite.sensors)]
+    filtered = [(i, s, lp) for i, s, lp in filters if lp is not None]
     if not filtered:
         return FilterArrays.none()
     if substep_s is None or not (np.isfinite(substep_s) and substep_s > 0):
         raise ConfigError("substep_s", "a positive RK4 substep [s] for the anti-alias filters", substep_s)
     nf = len(filtered)
     phi, g0, g1 = np.zeros((nf, 2, 2)), np.zeros((nf, 2)), np.zeros((nf, 2))
-    for j, i in enumerate(filtered):
-        lp = suite.sensors[i].anti_alias_filter()
+    for j, (_, _, lp) in enumerate(filtered):
         n = lp.n_states
         A, B = np.zeros((2, 2)), np.zeros(2)  # a first-order filter padded with a state that stays 0
         A[:n, :n], B[:n] = lp.A, lp.B[:, 0]
         phi[j], g0[j], g1[j] = first_order_hold(A, B, substep_s)
-    index = np.array(filtered, dtype=np.int64)
     return FilterArrays(
-        channel=index,
-        quantity_index=np.ascontiguousarray(np.asarray(suite.quantity_index)[index]),
-        gain=np.ascontiguousarray(np.asarray(suite.gain)[index]),
+        channel=np.array([i for i, _, _ in filtered], dtype=np.int64),
+        quantity_index=np.array([QUANTITIES.index(s.quantity) for _, s, _ in filtered], dtype=np.int64),
+        gain=np.array([s.gain for _, s, _ in filtered]),
         phi=phi,
         g0=g0,
         g1=g1,
