@@ -288,6 +288,7 @@ def lab_choice(setup: LabSetup, seed: int, used: dict, key: str = "seed") -> Lab
             seed,
             setup.sensors.clipping,
             setup.name,
+            setup.controller.output_delay,
         )
     except ConfigError as exc:
         raise ConfigError(key, exc.expected, exc.got) from None

@@ -185,7 +185,8 @@ def design_violations(design: ControllerDesign, required: tuple[str, ...]) -> li
 @dataclass(frozen=True)
 class LabChoice:
     """The virtual lab of a run: interlocks, sensors (None: the lab's Table 7.1 suite), plant substeps, seed,
-    what a clipped channel does (``clipping``: warn or fail) and the lab's name."""
+    what a clipped channel does (``clipping``: warn or fail), the lab's name and the controller's
+    output delay [loops]."""
 
     limits: SafetyLimits
     sensors: Any
@@ -193,6 +194,7 @@ class LabChoice:
     seed: int
     clipping: str = "warn"
     name: str = "report"
+    output_delay: int = 1
 
     def __post_init__(self):
         if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
@@ -283,6 +285,7 @@ class TrackingTest:
             seed=self.lab.seed,
             substeps=self.lab.substeps,
             limits=self.lab.limits,
+            output_delay=self.lab.output_delay,
         )
 
     def run(self) -> ControlledRun:
@@ -454,6 +457,7 @@ class FrfTest:
             seed=self.lab.seed,
             substeps=self.lab.substeps,
             limits=self.lab.limits,
+            output_delay=self.lab.output_delay,
         )
 
     def run(self, on_step: Callable[[str], None] | None = None) -> FrfOutcome:

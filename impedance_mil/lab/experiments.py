@@ -160,6 +160,7 @@ def run_frf(
     substeps: int | str | None = None,
     limits=None,
     quantize: bool = True,
+    output_delay: int = 1,
 ) -> FrfExperiment:
     """Frequency-response experiment of Section 4.5 on the virtual table.
 
@@ -182,7 +183,7 @@ def run_frf(
         Fit ``free`` parameters to the measured ``z/u`` (bare table only).
     f_range_hz : (float, float)
         Band of the identification [Hz].
-    sensors, seed, substeps, limits, quantize
+    sensors, seed, substeps, limits, quantize, output_delay
         As :func:`impedance_mil.lab.loop.simulate` (``substeps`` None: the report's policy).
 
     Returns
@@ -210,6 +211,7 @@ def run_frf(
         substeps=cfg.controller.substeps if substeps is None else substeps,
         limits=limits,
         quantize=quantize,
+        output_delay=output_delay,
         config={"experiment": "frf"},
     )
     if run.trip is not None:
@@ -292,7 +294,21 @@ def _motion_info(gm) -> dict:
 
 
 def _controlled(
-    params, motion, runtime, design, *, specimen, table, feedback, sensors, seed, substeps, limits, vs, name
+    params,
+    motion,
+    runtime,
+    design,
+    *,
+    specimen,
+    table,
+    feedback,
+    sensors,
+    seed,
+    substeps,
+    limits,
+    vs,
+    name,
+    output_delay=1,
 ) -> ControlledRun:
     gm = motion.resampled(params.loop_time)
     vt = _table(params, table, None)
@@ -308,6 +324,7 @@ def _controlled(
         seed=seed,
         substeps=substeps,
         limits=limits,
+        output_delay=output_delay,
         config={
             "experiment": name,
             "motion": _motion_info(gm),
@@ -336,6 +353,7 @@ def run_tracking(
     substeps: int | str | None = None,
     limits=None,
     design: ControllerDesign | None = None,
+    output_delay: int = 1,
 ) -> ControlledRun:
     """Acceleration tracking, ``z_vs = a_g`` (Section 8, Eq 1-6).
 
@@ -353,10 +371,11 @@ def run_tracking(
         Lab channel of w (Section 8.3.2; default the report's, ``[controller] feedback``).
     compensate : bool
         Include ``u_w`` (``False``: the third column of Figures 8.8-8.9).
-    table, precision, leak_hz, sensors, seed, substeps, limits
+    table, precision, leak_hz, sensors, seed, substeps, limits, output_delay
         Virtual table override, controller arithmetic (default the report's,
         single), drift leak [Hz], and :func:`~impedance_mil.lab.loop.simulate`
-        options (``substeps`` default the report's policy).
+        options (``substeps`` default the report's policy; ``output_delay`` in
+        loops, default 1: the design's linear model assumes one loop).
     design : ControllerDesign, optional
         The design to run (default :func:`tracking_design` at ``fc_hz``; a
         caller that checked its verdicts before the run passes it here).
@@ -381,6 +400,7 @@ def run_tracking(
         limits=limits,
         vs=None,
         name="tracking",
+        output_delay=output_delay,
     )
 
 
@@ -400,6 +420,7 @@ def run_mil(
     substeps: int | str | None = None,
     limits=None,
     design: ControllerDesign | None = None,
+    output_delay: int = 1,
 ) -> ControlledRun:
     """MIL run imitating the virtual system ``vs`` (Section 9; standardized controller).
 
@@ -433,4 +454,5 @@ def run_mil(
         limits=limits,
         vs=vs,
         name="mil",
+        output_delay=output_delay,
     )

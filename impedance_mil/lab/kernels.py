@@ -5,7 +5,8 @@ The kernels of one tick (the order is written once, in
 
 1. **sense** (:func:`plant_sense`): the sensors of a
    :class:`~impedance_mil.specimens.sensors.SensorSuite` read the plant at t_k
-   (Table 7.1 calibration, noise, 16-bit quantization, range): ``x``, ``dP``,
+   (Table 7.1 calibration, an optional anti-alias filter, noise, 16-bit
+   quantization, range): ``x``, ``dP``,
    ``z`` and the load-cell force ``w_LC``; ``w_FE = m_st z - A_p dP`` from force
    equilibrium (Section 8.3.2);
 2. **safety** (:func:`check_limits`): stroke, velocity, actuator force, valve
@@ -13,8 +14,10 @@ The kernels of one tick (the order is written once, in
    :class:`~impedance_mil.lab.trips.TripCause`;
 3. **controller** (:func:`track_step`, :func:`mil_step`): the runtime kernels
    of :mod:`impedance_mil.implement`, the VS through its tick;
-4. **hydraulic loop** (:func:`hydraulic_step`):
-   ``u_v(k) = K_e (u(k) - x_m(k-1)) - K_p dP_m(k-1)``, held over the loop (ZOH);
+4. **hydraulic loop** (:func:`hydraulic_command`):
+   ``u_v(k) = K_e (u(k) - x_m(k-1)) - K_p dP_m(k-1)``, applied over loop
+   ``k + N - 1`` (N the controller's output delay in loops, 1 for the
+   report's) and held over it (ZOH);
 5. **advance** (:func:`~impedance_mil.lab.stepping.plant_advance`): the
    continuous plant (nonlinear table + specimen state space) integrated over
    T with fixed RK4 substeps.
@@ -56,17 +59,22 @@ from ..plant.nonlinear import (
     table_acceleration,
     valve_command,
 )
-from ..specimens.sensors import QUANTITIES, force_from_equilibrium, load_cell_force_kernel, measure_kernel
-from .stepping import SPEC_BANK, SPEC_CSR, coupled_derivative, plant_advance, specimen_force_state
+from ..specimens.sensors import force_from_equilibrium, load_cell_force_kernel, measure_kernel, read_channel
+from .stepping import (
+    Q_DP,
+    Q_FORCE,
+    Q_W,
+    Q_X,
+    Q_Z,
+    SPEC_BANK,
+    SPEC_CSR,
+    coupled_derivative,
+    filter_sense,
+    plant_advance,
+    specimen_force_state,
+)
 from .structures import Measurements, PlantTruth, record_loop
 from .trips import TripCause
-
-# Slots of the true quantities the sensors measure (the order of QUANTITIES).
-_Q_Z = QUANTITIES.index("table_acceleration")
-_Q_X = QUANTITIES.index("table_displacement")
-_Q_DP = QUANTITIES.index("differential_pressure")
-_Q_FORCE = QUANTITIES.index("actuator_force")
-_Q_W = QUANTITIES.index("interface_force")
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -77,18 +85,20 @@ def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
     :class:`~impedance_mil.lab.structures.SpecimenArrays`, ``sensors`` a
     :class:`~impedance_mil.lab.structures.SensorArrays`, ``noise_row`` one
     standard-normal draw per channel; ``readings`` receives every channel's
-    reading; ``time_s`` [s] is stamped on the measurements.
+    reading; ``time_s`` [s] is stamped on the measurements.  A channel with an
+    anti-alias filter reads the filter's output (``sensors.filters``, brought
+    to this instant by :func:`~impedance_mil.lab.stepping.filter_sense`).
     """
     ws = specimen_force_state(specimen.C, y[N_TABLE_STATES:])
     z = table_acceleration(pa, y, ws, specimen.D)
     w = ws + specimen.D * z
     dp = y[IX_P1] - y[IX_P2]
     q = sensors.quantities
-    q[_Q_Z] = z
-    q[_Q_X] = y[IX_X]
-    q[_Q_DP] = dp
-    q[_Q_FORCE] = pa[PA_AREA] * dp
-    q[_Q_W] = w
+    q[Q_Z] = z
+    q[Q_X] = y[IX_X]
+    q[Q_DP] = dp
+    q[Q_FORCE] = pa[PA_AREA] * dp
+    q[Q_W] = w
     measure_kernel(
         q,
         noise_row,
@@ -102,6 +112,22 @@ def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
         sensors.v_high,
         readings,
     )
+    f = sensors.filters
+    if f.channel.shape[0] > 0:
+        # A filtered channel reads its filter's output instead of the true value.
+        filter_sense(f, q)
+        for i in range(f.channel.shape[0]):
+            c = f.channel[i]
+            readings[c] = read_channel(
+                f.state[i, 0],
+                noise_row[c],
+                sensors.scale[c],
+                sensors.offset[c],
+                sensors.noise_rms[c],
+                sensors.lsb[c],
+                sensors.v_low[c],
+                sensors.v_high[c],
+            )
     z_meas = readings[sensors.z_channel]
     dp_meas = readings[sensors.dp_channel]
     m = Measurements(
@@ -155,17 +181,29 @@ def check_limits(pa, limits, y, m, held):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def hydraulic_step(pa, u, x_prev, dp_prev, sat_ticks):
-    """Step 4 of a tick: returns ``(u_v [V], saturated ticks, valve current [mA])``.
+def valve_output(pa, uv, sat_ticks):
+    """The valve command ``uv`` [V] as the valve receives it: ``(saturated ticks, valve current [mA])``.
 
-    :func:`~impedance_mil.plant.nonlinear.valve_command` for the position
-    command ``u`` [in] and the previous loop's measurements ``x_prev`` [in],
-    ``dp_prev`` [psi]; ``sat_ticks`` counts the consecutive loops with ``u_v``
-    at its limit (reset when it leaves it), as :func:`check_limits` reads it.
+    ``sat_ticks`` counts the consecutive loops with ``uv`` at its limit (reset
+    when it leaves it), as :func:`check_limits` reads it.
     """
-    uv = valve_command(pa, u, x_prev, dp_prev)
     sat = sat_ticks + 1 if abs(uv) >= pa[PA_UVMAX] else 0
-    return uv, sat, pa[PA_KV] * uv
+    return sat, pa[PA_KV] * uv
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def delayed_output(line, h, uv):
+    """Put this loop's valve command ``uv`` [V] into the ring buffer ``line``; return the one due now.
+
+    ``line`` holds the commands of the last N = ``line.size`` loops (the
+    controller's output delay in loops) and ``h.head`` the slot of the next
+    write.  The command computed at loop k is applied over loop k + N - 1:
+    N = 1 (the report's controller) applies it at once, the previous loop's
+    measurements in it making the one-loop delay of the feedback.
+    """
+    line[h.head] = uv
+    h.head = (h.head + 1) % line.shape[0]
+    return line[h.head]
 
 
 # ----------------------------------------------------------------- the stages of a tick
@@ -216,19 +254,25 @@ def mil_step(control, vs_tick, a_g, w):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def hydraulic_command(pa, limits, held, m, u):
-    """:func:`hydraulic_step` for the command ``u`` [in] of the loop read as ``m``; updates ``held``.
+def hydraulic_command(pa, limits, held, line, m, u):
+    """Step 4 for the command ``u`` [in] of the loop read as ``m``; updates ``held`` and ``line``.
 
-    ``held`` is the one-element :data:`~impedance_mil.lab.structures.HELD_STATE`
-    array: the previous loop's measurements feed the valve command, this loop's
-    replace them.  The running averages of the valve interlocks (saturation
-    duty, mean-square current and mean-square slew of the valve command) are
-    exponentially weighted with the time constant ``limits.interlock_window``
-    [s], as a servo controller's duty and rms monitors are.
+    :func:`~impedance_mil.plant.nonlinear.valve_command` of ``u`` and the
+    previous loop's measurements ``x_prev`` [in], ``dp_prev`` [psi], through
+    the output delay (:func:`delayed_output`, ring buffer ``line``), then
+    :func:`valve_output`.  ``held`` is the one-element
+    :data:`~impedance_mil.lab.structures.HELD_STATE` array: the previous
+    loop's measurements feed the valve command, this loop's replace them.
+    The running averages of the valve interlocks (saturation duty,
+    mean-square current and mean-square slew of the valve command the valve
+    receives) are exponentially weighted with the time constant
+    ``limits.interlock_window`` [s], as a servo controller's duty and rms
+    monitors are.
     """
     h = held[0]
     loop = pa[PA_LOOP]
-    uv, sat, current = hydraulic_step(pa, u, h.x_prev, h.dp_prev, h.sat)
+    uv = delayed_output(line, h, valve_command(pa, u, h.x_prev, h.dp_prev))
+    sat, current = valve_output(pa, uv, h.sat)
     weight = min(1.0, loop / limits.interlock_window)
     slew = (uv - h.u_v) / loop
     h.duty += weight * ((1.0 if sat > 0 else 0.0) - h.duty)
@@ -244,7 +288,7 @@ def hydraulic_command(pa, limits, held, m, u):
 @njit(cache=True, inline="always", error_model="numpy")
 def command(plant, m, u):
     """Stage 4 on a :class:`VirtualPlant`: the hydraulic loop (:func:`hydraulic_command`)."""
-    hydraulic_command(plant.table, plant.limits, plant.held, m, u)
+    hydraulic_command(plant.table, plant.limits, plant.held, plant.output_line, m, u)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -286,6 +330,7 @@ def advance(plant):
         plant.table[PA_LOOP],
         plant.substeps,
         plant.work,
+        plant.sensors.filters,
     )
 
 
@@ -296,8 +341,8 @@ __all__ = [
     "check_limits",
     "command",
     "coupled_derivative",
+    "delayed_output",
     "hydraulic_command",
-    "hydraulic_step",
     "mil_step",
     "plant_advance",
     "plant_sense",
@@ -308,4 +353,5 @@ __all__ = [
     "sense_and_check",
     "track_step",
     "truth",
+    "valve_output",
 ]

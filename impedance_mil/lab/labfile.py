@@ -36,7 +36,7 @@ from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .labsensors import Converter, SensorSetup, sensor_setup
-from .setup import SafetyLimits
+from .setup import MAX_OUTPUT_DELAY, SafetyLimits
 
 #: Name of the shipped lab of the report (its sections live in data/report/config.toml).
 REPORT_LAB = "report"
@@ -164,6 +164,22 @@ class LabSetup:
     def is_report(self) -> bool:
         return self.name == REPORT_LAB
 
+    def require_one_loop_delay(self, use: str) -> None:
+        """Refuse an output delay of more than one loop for ``use`` (e.g. ``imil design``).
+
+        The linear table model (:mod:`impedance_mil.plant.linear`) delays the
+        hydraulic loop's feedback by one loop time, the report's controller;
+        the virtual lab's runs honour any delay.
+        """
+        delay = self.controller.output_delay
+        if delay != 1:
+            raise ConfigError(
+                f"{self.name}: controller.output_delay",
+                f"1 loop for {use} (its linear table model delays the feedback by one loop time; "
+                "the virtual lab's runs honour the lab's delay)",
+                f"{delay} loops",
+            )
+
     def to_dict(self) -> dict[str, Any]:
         """The effective setup with the source of each value (``imil lab show --json``)."""
         limits = self.limits.kernel_values(NonlinearTable.from_linear(self.table))._asdict()
@@ -184,6 +200,8 @@ class LabSetup:
                         "resolution": abs(s.scale) * s.lsb_v,
                         "noise_rms": abs(s.scale) * s.noise_rms_v,
                         "share": s.gain,
+                        "bandwidth": s.bandwidth_hz,
+                        "filter_order": s.filter_order if s.bandwidth_hz is not None else None,
                     }
                     for s in self.sensors.suite.sensors
                 ],
@@ -223,6 +241,7 @@ LAB_UNITS = {
     "limits.interlock_window": "s",
     "limits.divergence": "in",
     "sensors.channels.range": "unit of the channel",
+    "sensors.channels.bandwidth": "Hz",
     "controller.loop_time": "s",
     "controller.output_delay": "loops",
     "controller.adc_range": "V",
@@ -363,20 +382,18 @@ def _controller(section: Any, table: TableParameters, where: str, sources: dict)
 
 
 def _output_delay(value: Any, loop: float, key: str) -> int:
-    """The output delay in loops: a whole number, or a time that is a whole number of ``loop`` [s]."""
+    """The output delay in loops: a whole number (``2``, ``"2 loops"``), or a time that is a whole number of ``loop`` [s]."""
+    if isinstance(value, str) and value.split()[-1:] in (["loop"], ["loops"]):
+        value = value.split()[0] if len(value.split()) == 2 else value
     if isinstance(value, str) and any(c.isalpha() for c in value):
         loops = quantity(key, value, "second", "positive") / loop
     else:
         loops = quantity(key, value, "dimensionless", "positive")
-    if abs(loops - round(loops)) > 1e-9 or round(loops) < 1:
-        raise ConfigError(key, f"a whole number of loops of {loop * 1e6:g} us (at least 1)", value)
-    if round(loops) != 1:
+    if abs(loops - round(loops)) > 1e-9 or not 1 <= round(loops) <= MAX_OUTPUT_DELAY:
         raise ConfigError(
-            key,
-            "1 loop (the virtual lab models the one-loop command delay of the report's controller)",
-            value,
+            key, f"a whole number of loops of {loop * 1e6:g} us (1 to {MAX_OUTPUT_DELAY})", value
         )
-    return 1
+    return round(loops)
 
 
 def _limits(

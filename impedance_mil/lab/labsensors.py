@@ -24,20 +24,29 @@ acceleration over twice the stall force over the moving mass and the load
 cell over twice the stall force, each read by the controller's converter
 with :data:`~impedance_mil.lab.setup.DEFAULT_NOISE_V` of noise.
 
-A ``bandwidth`` (anti-alias filter) is refused: the virtual lab does not model
-it yet (issue 17).
+A channel may have an analog anti-alias filter: ``bandwidth = "200 Hz"`` (its
+-3 dB frequency) and ``filter_order = 1`` or ``2`` (Butterworth, default 2),
+acting on the true signal before noise, saturation and the converter
+(:meth:`~impedance_mil.specimens.sensors.Sensor.anti_alias_filter`).  A
+bandwidth that is not a positive frequency is refused; one at or above the
+Nyquist frequency of the controller's loop, 1 / (2 loop_time), is accepted (a
+real conditioner may be set so, and its lag is then modelled) with a
+:class:`~impedance_mil.plausibility.PlausibilityWarning`: such a filter does
+not prevent aliasing.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from ..config import quantity
 from ..errors import ConfigError
 from ..plant import TableParameters
-from ..specimens.sensors import Sensor, SensorSuite
+from ..plausibility import PlausibilityWarning
+from ..specimens.sensors import FILTER_ORDERS, Sensor, SensorSuite
 from .setup import DEFAULT_NOISE_V, default_sensors
 
 #: What a clipped channel does: ``warn`` (the run goes on, the summary records it) or ``fail``.
@@ -54,7 +63,18 @@ QUANTITY_NAMES = {
 #: Named channel sets a lab file may give as ``preset``.
 PRESETS = ("table-7.1",)
 
-_CHANNEL_KEYS = ("quantity", "range", "scale", "offset", "bits", "resolution", "noise", "share", "bandwidth")
+_CHANNEL_KEYS = (
+    "quantity",
+    "range",
+    "scale",
+    "offset",
+    "bits",
+    "resolution",
+    "noise",
+    "share",
+    "bandwidth",
+    "filter_order",
+)
 
 
 @dataclass(frozen=True)
@@ -114,7 +134,8 @@ def sensor_setup(section: Any, table: TableParameters, adc: Converter, where: st
     for name, entry in channels.items():
         if not isinstance(entry, Mapping):
             raise ConfigError(f"{where}sensors.{name}", "a table with " + ", ".join(_CHANNEL_KEYS), entry)
-        sensors.append(_channel(name, entry, adc, f"{where}sensors.{name}."))
+        sensor = _channel(name, entry, adc, f"{where}sensors.{name}.")
+        sensors.append(_with_filter(sensor, entry, table.loop_time, f"{where}sensors.{name}."))
     return SensorSetup(SensorSuite(tuple(sensors)), clipping, "file")
 
 
@@ -122,10 +143,6 @@ def _channel(name: str, entry: Mapping[str, Any], adc: Converter, key: str) -> S
     unknown = sorted(set(entry) - set(_CHANNEL_KEYS))
     if unknown:
         raise ConfigError(f"{key}{unknown[0]}", "one of the keys " + ", ".join(_CHANNEL_KEYS))
-    if "bandwidth" in entry:
-        raise ConfigError(
-            f"{key}bandwidth", "no anti-alias bandwidth (the virtual lab does not model the filter yet)"
-        )
     kind = entry.get("quantity")
     if kind not in QUANTITY_NAMES:
         raise ConfigError(f"{key}quantity", "one of " + ", ".join(QUANTITY_NAMES), kind)
@@ -160,6 +177,31 @@ def _channel(name: str, entry: Mapping[str, Any], adc: Converter, key: str) -> S
     if share == 0:
         raise ConfigError(f"{key}share", "a nonzero share of the force (with its sign)", share)
     return _sensor(name, kind, scale, offset, share, noise, bits, Converter(bits, range_v))
+
+
+def _with_filter(sensor: Sensor, entry: Mapping[str, Any], loop_time: float, key: str) -> Sensor:
+    """``sensor`` with the entry's anti-alias filter (``bandwidth``, ``filter_order``), if any.
+
+    ``loop_time`` [s] is the controller's: a bandwidth at or above its Nyquist
+    frequency is a :class:`PlausibilityWarning` (see the module docstring).
+    """
+    if "bandwidth" not in entry:
+        if "filter_order" in entry:
+            raise ConfigError(f"{key}filter_order", "a bandwidth beside it (the filter's -3 dB frequency)")
+        return sensor
+    bandwidth = quantity(f"{key}bandwidth", entry["bandwidth"], "hertz", "positive")
+    order = entry.get("filter_order", 2)
+    if isinstance(order, bool) or order not in FILTER_ORDERS:
+        raise ConfigError(f"{key}filter_order", "1 or 2 (Butterworth)", order)
+    nyquist = 0.5 / loop_time
+    if bandwidth >= nyquist:
+        warnings.warn(
+            f"{key}bandwidth: {bandwidth:g} Hz is at or above the Nyquist frequency ({nyquist:g} Hz) of the "
+            f"{loop_time * 1e6:g} us loop: the filter does not prevent aliasing",
+            PlausibilityWarning,
+            stacklevel=4,
+        )
+    return replace(sensor, bandwidth_hz=bandwidth, filter_order=int(order))
 
 
 def _bits_for(codes: float) -> int:

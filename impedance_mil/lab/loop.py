@@ -30,7 +30,7 @@ from ..implement.vs_tick import VSArrays, no_vs_tick
 from ..plant.nonlinear import N_TABLE_STATES
 from .plant_interface import PlantInterface, VirtualTable, specimen_arrays
 from .results import RunResult
-from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
+from .setup import SafetyLimits, default_sensors, draw_noise, output_line, sensor_arrays
 from .structures import (
     FEEDBACK_FE,
     FEEDBACK_LC,
@@ -133,6 +133,7 @@ def simulate(
     substeps: int | str = "auto",
     seed: int = 0,
     quantize: bool = True,
+    output_delay: int = 1,
     config: dict | None = None,
 ) -> RunResult:
     """Run the compiled sampled-data loop.
@@ -166,6 +167,11 @@ def simulate(
         Sensor-noise seed.
     quantize : bool
         16-bit quantization of the sensors (``False`` for model studies).
+    output_delay : int
+        The controller's output delay N [loops]: the valve command computed at
+        loop k is applied over loop k + N - 1 (default 1, the report's: at
+        once, with the previous loop's measurements in it); stored in
+        ``config["output_delay"]``.
     config : dict, optional
         Extra entries for the stored configuration (e.g. the motion's name).
 
@@ -178,9 +184,11 @@ def simulate(
         raise ConfigError("feedback", "'lc' (load cells) or 'fe' (force equilibrium)", feedback)
     nsub, sub_cfg = resolve_substeps(substeps, table, specimen)
     sensors = sensors or default_sensors()
-    sens = sensor_arrays(sensors, feedback, quantize)
+    sens = sensor_arrays(sensors, feedback, quantize, table.loop_time / nsub)
     limits = limits or SafetyLimits()
     mode, ag, cmd = _mode_and_inputs(command, a_g, runtime, table.loop_time)
+    line = output_line(output_delay)
+    config = {**(config or {}), "output_delay": int(output_delay)}
     if mode == MODE_MIL and getattr(runtime, "python_vs", False):
         # A user-defined VS has no kernel: the same ticks through the plant interface
         # (VirtualTable calls the compiled plant kernels; trajectories are the same).
@@ -193,6 +201,7 @@ def simulate(
             seed=seed,
             feedback=feedback,
             quantize=quantize,
+            output_delay=output_delay,
         )
         result = simulate_interface(virtual_table, a_g=ag, runtime=runtime, feedback=feedback)
         cfg = _config(
@@ -205,7 +214,7 @@ def simulate(
             seed,
             feedback,
             quantize,
-            {**(config or {}), "path": "python-vs"},
+            {**config, "path": "python-vs"},
         )
         return replace(result, config=cfg)
     n = ag.size
@@ -224,6 +233,7 @@ def simulate(
         work=np.zeros((5, n_y)),
         readings=np.zeros(sensors.n_channels),
         held=np.zeros(1, HELD_STATE),
+        output_line=line,
     )
     ctrl, vs_tick, vs = _controller_arrays(runtime)
     control = LoopControl(mode, _FEEDBACK[feedback], ag, cmd, float(table.loop_time), ctrl, vs)
@@ -272,7 +282,8 @@ def simulate_interface(
         mode=_MODES[mode],
         loop_time=plant.loop_time,
         trip=_trip(done, cause, value, plant.loop_time),
-        config={"plant": type(plant).__name__, "feedback": feedback},
+        config={"plant": type(plant).__name__, "feedback": feedback}
+        | ({"output_delay": plant.output_delay} if hasattr(plant, "output_delay") else {}),
     )
 
 

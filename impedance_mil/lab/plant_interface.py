@@ -22,7 +22,7 @@ from ..errors import LimitTripped
 from ..plant.nonlinear import N_TABLE_STATES
 from . import kernels
 from .kernels import SPEC_BANK, SPEC_CSR, plant_advance
-from .setup import SafetyLimits, default_sensors, draw_noise, sensor_arrays
+from .setup import SafetyLimits, default_sensors, draw_noise, output_line, sensor_arrays
 from .structures import HELD_STATE, Measurements, SpecimenArrays, VirtualPlant
 from .substeps import resolve_substeps, specimen_state_space
 
@@ -129,6 +129,10 @@ class VirtualTable:
     seed : int
         Seed of the sensor noise (numpy ``default_rng``; one row of
         ``n_channels`` normals per loop, as in the compiled loop).
+    output_delay : int
+        The controller's output delay N [loops]: the command written at loop
+        k reaches the valve over loop k + N - 1 (default 1, the report's
+        controller: at once, with the previous loop's measurements in it).
     """
 
     def __init__(
@@ -141,12 +145,14 @@ class VirtualTable:
         seed: int = 0,
         feedback: str = "lc",
         quantize: bool = True,
+        output_delay: int = 1,
     ):
         self.table = table
         self.loop_time = table.loop_time
         self.sensors = sensors or default_sensors()
         self.substeps = resolve_substeps(substeps, table, specimen)[0]
         self.seed = seed
+        self.output_delay = int(output_delay)
         spec = specimen_arrays(specimen)
         n = N_TABLE_STATES + spec.B.size
         #: The compiled stages' view of this table: one row of noise, drawn per loop.
@@ -154,13 +160,14 @@ class VirtualTable:
             table=table.parameter_array(),
             y=np.zeros(n),
             specimen=spec,
-            sensors=sensor_arrays(self.sensors, feedback, quantize),
+            sensors=sensor_arrays(self.sensors, feedback, quantize, self.loop_time / self.substeps),
             limits=(limits or SafetyLimits()).kernel_values(table),
             substeps=self.substeps,
             noise=np.zeros((1, self.sensors.n_channels), np.float32),
             work=np.zeros((5, n)),
             readings=np.zeros(self.sensors.n_channels),
             held=np.zeros(1, HELD_STATE),
+            output_line=output_line(output_delay),
         )
         self.reset()
 
@@ -173,6 +180,8 @@ class VirtualTable:
         self.y[:] = 0.0
         self.y[:N_TABLE_STATES] = self.table.equilibrium_state()
         self.plant.held[:] = np.zeros(1, HELD_STATE)
+        self.plant.sensors.filters.reset()
+        self.plant.output_line[:] = 0.0
         self._rng = np.random.default_rng(self.seed)
         self._tick = 0
         self._read: tuple | None = None
@@ -207,13 +216,15 @@ class VirtualTable:
         return m
 
     def write_command(self, u: float) -> None:
-        kernels.hydraulic_command(
-            self.plant.table, self.plant.limits, self.plant.held, self._sense()[0], float(u)
-        )
+        p = self.plant
+        kernels.hydraulic_command(p.table, p.limits, p.held, p.output_line, self._sense()[0], float(u))
 
     def advance(self) -> None:
         p = self.plant
-        plant_advance(p.table, p.y, *p.specimen, self.current, self.loop_time, self.substeps, p.work)
+        self._sense()  # the filters are brought to this instant by the sensing, read or not
+        plant_advance(
+            p.table, p.y, *p.specimen, self.current, self.loop_time, self.substeps, p.work, p.sensors.filters
+        )
         self._step()
 
     def _step(self) -> None:

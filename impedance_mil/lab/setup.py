@@ -12,10 +12,11 @@ import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
+import scipy.linalg
 
 from ..errors import ConfigError
 from ..specimens.sensors import QUANTITIES, SensorSuite
-from .structures import LimitValues, SensorArrays
+from .structures import FilterArrays, LimitValues, SensorArrays
 
 #: Default sensor noise of the virtual lab [V rms per channel].
 DEFAULT_NOISE_V = 1.0e-3
@@ -57,11 +58,98 @@ def draw_noise(rng: np.random.Generator, suite: SensorSuite, n_loops: int | None
     return rng.standard_normal(shape, dtype=np.float32)
 
 
-def sensor_arrays(suite: SensorSuite, feedback: str = "lc", quantize: bool = True) -> SensorArrays:
+#: Longest output delay a controller may have [loops] (a buffer of this many commands).
+MAX_OUTPUT_DELAY = 100
+
+
+def output_line(output_delay: int) -> np.ndarray:
+    """The ring buffer of the output delay: ``output_delay`` valve commands [V], zero (valve at rest).
+
+    Raises
+    ------
+    ConfigError
+        ``output_delay`` is not a whole number of loops from 1 to :data:`MAX_OUTPUT_DELAY`.
+    """
+    if isinstance(output_delay, bool) or not isinstance(output_delay, (int, np.integer)):
+        raise ConfigError(
+            "output_delay", f"a whole number of loops from 1 to {MAX_OUTPUT_DELAY}", output_delay
+        )
+    if not 1 <= output_delay <= MAX_OUTPUT_DELAY:
+        raise ConfigError(
+            "output_delay", f"a whole number of loops from 1 to {MAX_OUTPUT_DELAY}", output_delay
+        )
+    return np.zeros(int(output_delay))
+
+
+def first_order_hold(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Exact discretization of ``x' = A x + B u`` over ``h`` [s] with ``u`` linear in between.
+
+    Returns ``(phi, g0, g1)`` with ``x(h) = phi x(0) + g0 u(0) + g1 u(h)``
+    for a single input (``B`` of n entries), from one matrix exponential of
+    ``[[A h, B h, 0], [0, 0, 1], [0, 0, 0]]``: its first block row is
+    ``[phi, G, H]`` with ``x(h) = phi x(0) + G u(0) + H (u(h) - u(0))``.
+    """
+    n = A.shape[0]
+    block = np.zeros((n + 2, n + 2))
+    block[:n, :n] = A * h
+    block[:n, n] = B * h
+    block[n, n + 1] = 1.0
+    E = scipy.linalg.expm(block)
+    return E[:n, :n], E[:n, n] - E[:n, n + 1], E[:n, n + 1]
+
+
+def filter_arrays(suite: SensorSuite, substep_s: float | None) -> FilterArrays:
+    """The :class:`~impedance_mil.lab.structures.FilterArrays` of the suite's anti-alias filters.
+
+    Each filter (:meth:`~impedance_mil.specimens.sensors.Sensor.anti_alias_filter`)
+    is discretized exactly over one RK4 substep ``substep_s`` [s] (the loop
+    time over the substeps) with its input, the true channel value, linear
+    between the substep's ends (:func:`first_order_hold`).  Why not integrate
+    the filter with RK4 in the plant state: the substeps are chosen for the
+    plant's fastest mode (:mod:`~impedance_mil.lab.substeps`), and a filter
+    near the Nyquist frequency has ``omega_c h`` up to pi/2 with the bare
+    table's two substeps, where RK4 is inaccurate (and beyond 2.8, unstable);
+    the exact discretization is right for any bandwidth.  Why a first-order
+    and not a zero-order hold of the input: holding the substep's first value
+    delays the input by half a substep (a quarter loop with two substeps, a
+    phase error of the size of the filter's own lag at tens of Hz); the
+    linear hold has no such delay.
+    """
+    filters = [(i, s, s.anti_alias_filter()) for i, s in enumerate(suite.sensors)]
+    filtered = [(i, s, lp) for i, s, lp in filters if lp is not None]
+    if not filtered:
+        return FilterArrays.none()
+    if substep_s is None or not (np.isfinite(substep_s) and substep_s > 0):
+        raise ConfigError("substep_s", "a positive RK4 substep [s] for the anti-alias filters", substep_s)
+    nf = len(filtered)
+    phi, g0, g1 = np.zeros((nf, 2, 2)), np.zeros((nf, 2)), np.zeros((nf, 2))
+    for j, (_, _, lp) in enumerate(filtered):
+        n = lp.n_states
+        A, B = np.zeros((2, 2)), np.zeros(2)  # a first-order filter padded with a state that stays 0
+        A[:n, :n], B[:n] = lp.A, lp.B[:, 0]
+        phi[j], g0[j], g1[j] = first_order_hold(A, B, substep_s)
+    return FilterArrays(
+        channel=np.array([i for i, _, _ in filtered], dtype=np.int64),
+        quantity_index=np.array([QUANTITIES.index(s.quantity) for _, s, _ in filtered], dtype=np.int64),
+        gain=np.array([s.gain for _, s, _ in filtered]),
+        phi=phi,
+        g0=g0,
+        g1=g1,
+        state=np.zeros((nf, 2)),
+        previous=np.zeros(nf),
+        primed=np.zeros(1, np.int64),
+    )
+
+
+def sensor_arrays(
+    suite: SensorSuite, feedback: str = "lc", quantize: bool = True, substep_s: float | None = None
+) -> SensorArrays:
     """The :class:`~impedance_mil.lab.structures.SensorArrays` the sensing kernel reads.
 
-    The suite's channel arrays, the first channel measuring z, x and dP, and a
-    quantity buffer.  ``quantize=False`` replaces the 16-bit LSB by
+    The suite's channel arrays, the first channel measuring z, x and dP, a
+    quantity buffer and the anti-alias filters (:func:`filter_arrays`, over the
+    RK4 substep ``substep_s`` [s], needed only when a channel has a
+    ``bandwidth_hz``).  ``quantize=False`` replaces the 16-bit LSB by
     :data:`UNQUANTIZED_LSB_V` (model studies only).
     """
     qi = np.asarray(suite.quantity_index)
@@ -90,6 +178,7 @@ def sensor_arrays(suite: SensorSuite, feedback: str = "lc", quantize: bool = Tru
         x_channel=x_channel,
         dp_channel=dp_channel,
         quantities=np.zeros(len(QUANTITIES)),
+        filters=filter_arrays(suite, substep_s),
     )
 
 

@@ -6,7 +6,11 @@ specimen states (n)]`` by one loop with the valve current held;
 solve_ivp reference and the linearization tests).  The specimen arrays are
 those of :class:`~impedance_mil.lab.structures.SpecimenArrays`, passed field
 by field: ``plant_advance(pa, y, *specimen_arrays(specimen), current, dt,
-nsub, work)``.
+nsub, work, filters)``.  The sensors' anti-alias filters
+(:class:`~impedance_mil.lab.structures.FilterArrays`) advance with the plant,
+one exact step per substep (:func:`filter_step`): inside a loop at the
+substep boundaries here, the loop's last substep when the next loop senses
+(:func:`filter_sense`, where the true values at the loop's end are known).
 """
 
 from __future__ import annotations
@@ -21,13 +25,73 @@ from ..plant.nonlinear import (
     IX_V,
     IX_X,
     N_TABLE_STATES,
+    PA_AREA,
     table_derivative,
     table_rates,
 )
+from ..specimens.sensors import QUANTITIES
+
+# Slots of the true quantities the sensors measure (the order of QUANTITIES).
+Q_Z = QUANTITIES.index("table_acceleration")
+Q_X = QUANTITIES.index("table_displacement")
+Q_DP = QUANTITIES.index("differential_pressure")
+Q_FORCE = QUANTITIES.index("actuator_force")
+Q_W = QUANTITIES.index("interface_force")
 
 #: Specimen kinds (how :func:`plant_advance` evaluates the specimen): a general
 #: state space in compressed-row form, or a bank of base-excited oscillators.
 SPEC_CSR, SPEC_BANK = 0, 1
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def filter_step(f, i, u1):
+    """Advance filter ``i`` of the :class:`FilterArrays` ``f`` by one substep to the input ``u1``.
+
+    The input goes linearly from the previous boundary's value to ``u1``
+    [unit of the channel] (first-order hold, exact for that input).
+    """
+    s0, s1 = f.state[i, 0], f.state[i, 1]
+    u0 = f.previous[i]
+    f.state[i, 0] = f.phi[i, 0, 0] * s0 + f.phi[i, 0, 1] * s1 + f.g0[i, 0] * u0 + f.g1[i, 0] * u1
+    f.state[i, 1] = f.phi[i, 1, 0] * s0 + f.phi[i, 1, 1] * s1 + f.g0[i, 1] * u0 + f.g1[i, 1] * u1
+    f.previous[i] = u1
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def filter_sense(f, quantities):
+    """The filters at a sensing instant, ``quantities`` the true values (order of QUANTITIES).
+
+    Closes the last substep of the previous loop (:func:`filter_step`); at the
+    first sensing (``f.primed[0] == 0``) sets each filter at rest at its input
+    instead (the table has stood at equilibrium).  The filtered value of
+    filter ``i`` is then ``f.state[i, 0]``.
+    """
+    for i in range(f.channel.shape[0]):
+        u = f.gain[i] * quantities[f.quantity_index[i]]
+        if f.primed[0]:
+            filter_step(f, i, u)
+        else:
+            f.state[i, 0], f.state[i, 1], f.previous[i] = u, 0.0, u
+    f.primed[0] = 1
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def filter_boundary(f, pa, z, x, p1, p2, w):
+    """The filters over one substep, to the true values at its end (z [in/s^2], x [in], p1, p2 [psi], w [lbf])."""
+    dp = p1 - p2
+    for i in range(f.channel.shape[0]):
+        k = f.quantity_index[i]
+        if k == Q_Z:
+            q = z
+        elif k == Q_X:
+            q = x
+        elif k == Q_DP:
+            q = dp
+        elif k == Q_FORCE:
+            q = pa[PA_AREA] * dp
+        else:
+            q = w
+        filter_step(f, i, f.gain[i] * q)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -69,7 +133,7 @@ def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, curren
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, dt, nsub, work):
+def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, dt, nsub, work, filters):
     """Advance the plant state ``y`` by ``dt`` [s]: ``nsub`` RK4 steps, valve current held [mA].
 
     Specimen arrays of :func:`impedance_mil.lab.plant_interface.specimen_arrays`:
@@ -81,11 +145,16 @@ def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, dt
     q_i + osc_c_i q_i'``).  Both kinds take the same RK4 stages; the bank
     evaluates them in one loop per stage (:func:`advance_bank`), the general
     form in :func:`advance_csr`.  ``work`` is a (5, len(y)) scratch array.
+    ``filters`` are the sensors' :class:`~impedance_mil.lab.structures.FilterArrays`
+    (none: ``FilterArrays.none()``), stepped at the substep boundaries
+    inside the loop (:func:`filter_boundary`) with the true values the RK4
+    step evaluates there anyway; the loop's last substep is closed by the
+    next sensing (:func:`filter_sense`).
     """
     if kind == SPEC_BANK:
-        advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work)
+        advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work, filters)
     else:
-        advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work)
+        advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work, filters)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -111,7 +180,7 @@ def bank_inner_stage(ys, tmp, acc, Cs, osc_k, osc_c, z, c):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work):
+def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work, filters):
     """:func:`plant_advance` for a bank of oscillators (``kind == SPEC_BANK``).
 
     Per RK4 stage one loop over the oscillators evaluates the stage
@@ -126,11 +195,14 @@ def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work):
     ys = y[N_TABLE_STATES:]
     acc, tmp = work[0], work[1]
     x, v, p1, p2, s, sd = y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD]
-    for _ in range(nsub):
+    n_filters = filters.channel.shape[0]
+    for j in range(nsub):
         ws = 0.0
         for i in range(n):
             ws += Cs[i] * ys[i] + Cs[n + i] * ys[n + i]
         z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current, ws, Ds)
+        if j > 0 and n_filters > 0:
+            filter_boundary(filters, pa, z1, x, p1, p2, ws + Ds * z1)
         ws = 0.0
         for i in range(n):
             q, qd = ys[i], ys[n + i]
@@ -182,7 +254,7 @@ def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work):
+def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work, filters):
     """:func:`plant_advance` for a general specimen state space (``kind == SPEC_CSR``).
 
     Classical RK4 on :func:`coupled_derivative`, written out with the six
@@ -197,8 +269,12 @@ def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work):
     ys = y[N_TABLE_STATES:]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     x, v, p1, p2, s, sd = y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD]
-    for _ in range(nsub):
-        z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current, specimen_force_state(Cs, ys), Ds)
+    n_filters = filters.channel.shape[0]
+    for j in range(nsub):
+        ws = specimen_force_state(Cs, ys)
+        z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current, ws, Ds)
+        if j > 0 and n_filters > 0:
+            filter_boundary(filters, pa, z1, x, p1, p2, ws + Ds * z1)
         specimen_rates(Av, Ac, Ap, Bs, ys, z1, k1)
         for i in range(m):
             tmp[i] = ys[i] + 0.5 * h * k1[i]

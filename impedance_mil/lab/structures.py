@@ -11,7 +11,7 @@ compiled call, which allocates nothing.
   interface's answer, also built by the compiled sensing stage);
 * :class:`PlantTruth` -- the true plant quantities of one loop (recorded beside
   the measurements when the plant knows them);
-* :class:`SpecimenArrays`, :class:`SensorArrays`, :class:`LimitValues` and
+* :class:`SpecimenArrays`, :class:`SensorArrays` (with its :class:`FilterArrays`), :class:`LimitValues` and
   :data:`HELD_STATE` -- the pieces of the compiled :class:`VirtualPlant`;
 * :class:`LoopControl` -- mode, inputs and the controller (and VS) arrays;
 * :class:`Channels` and :class:`Records` -- the records, one array per
@@ -73,7 +73,7 @@ class PlantTruth(NamedTuple):
     w : float
         Force of the test article on the table [lbf].
     u_v : float
-        Valve command of this loop [V].
+        Valve command the valve receives this loop [V].
     current : float
         Valve current of this loop [mA].
     """
@@ -117,6 +117,56 @@ class SpecimenArrays(NamedTuple):
     osc_c: np.ndarray
 
 
+class FilterArrays(NamedTuple):
+    """The channels' anti-alias filters for the sensing and stepping kernels, one entry per filter.
+
+    Each filter is a channel's continuous Butterworth low-pass
+    (:meth:`~impedance_mil.specimens.sensors.Sensor.anti_alias_filter`, two
+    states, a first-order one padded with a state that stays 0), driven by the
+    true channel value ``gain * quantities[quantity_index]`` and discretized
+    exactly over one RK4 substep with the input linear between the substep's
+    ends (first-order hold): ``state <- phi state + g0 u(start) + g1 u(end)``.
+    The filtered value is ``state[:, 0]``.  ``channel`` is the filtered
+    channel's index in the suite; ``state`` (nf, 2) and ``previous`` (nf,),
+    the input at the last substep boundary, are written in place; ``primed``
+    (1,) is 0 until the first sensing sets each filter at rest at its input.
+    Built by :func:`impedance_mil.lab.setup.filter_arrays`; a suite without
+    filters has nf = 0.
+    """
+
+    channel: np.ndarray
+    quantity_index: np.ndarray
+    gain: np.ndarray
+    phi: np.ndarray
+    g0: np.ndarray
+    g1: np.ndarray
+    state: np.ndarray
+    previous: np.ndarray
+    primed: np.ndarray
+
+    @classmethod
+    def none(cls) -> FilterArrays:
+        """No filters (nf = 0): every channel reads its value as it is."""
+        index = np.zeros(0, np.int64)
+        return cls(
+            index,
+            index.copy(),
+            np.zeros(0),
+            np.zeros((0, 2, 2)),
+            np.zeros((0, 2)),
+            np.zeros((0, 2)),
+            np.zeros((0, 2)),
+            np.zeros(0),
+            np.zeros(1, np.int64),
+        )
+
+    def reset(self) -> None:
+        """Back to unprimed: the next sensing sets each filter at rest at its input."""
+        self.state[:] = 0.0
+        self.previous[:] = 0.0
+        self.primed[:] = 0
+
+
 class SensorArrays(NamedTuple):
     """A :class:`~impedance_mil.specimens.sensors.SensorSuite` for the sensing kernel.
 
@@ -126,7 +176,8 @@ class SensorArrays(NamedTuple):
     ``v_high`` [V] and ``load_cell_weights``; ``z_channel``, ``x_channel`` and
     ``dp_channel`` are the first channels measuring the table acceleration,
     displacement and differential pressure; ``quantities`` is the scratch the
-    kernel fills with the true quantities before measuring them.  Built by
+    kernel fills with the true quantities before measuring them; ``filters``
+    the channels' anti-alias filters (:class:`FilterArrays`).  Built by
     :func:`impedance_mil.lab.setup.sensor_arrays`.
     """
 
@@ -143,6 +194,7 @@ class SensorArrays(NamedTuple):
     x_channel: int
     dp_channel: int
     quantities: np.ndarray
+    filters: FilterArrays
 
 
 class LimitValues(NamedTuple):
@@ -172,8 +224,10 @@ class LimitValues(NamedTuple):
 #: What the virtual plant carries from one stage, or loop, to the next (a one-element
 #: record array, written in place): the previous loop's measured ``x_prev`` [in] and
 #: ``dp_prev`` [psi] (the hydraulic loop's feedback), ``sat`` (consecutive loops with
-#: the valve command at its limit), this loop's valve command ``u_v`` [V] and current
-#: [mA], the true ``z`` [in/s^2] and ``w`` [lbf] of this loop's sensing, and the
+#: the valve command at its limit), the valve command ``u_v`` [V] and current [mA]
+#: the valve receives this loop (computed N - 1 loops ago, N the output delay), the
+#: slot ``head`` of the next write into the output delay's ring buffer
+#: (``VirtualPlant.output_line``), the true ``z`` [in/s^2] and ``w`` [lbf] of this loop's sensing, and the
 #: running averages of the valve interlocks (exponentially weighted over
 #: ``LimitValues.interlock_window``): ``duty`` (fraction of loops saturated),
 #: ``current_sq`` [mA^2] and ``slew_sq`` [(V/s)^2] (the command's loop-to-loop change).
@@ -189,6 +243,7 @@ HELD_STATE = np.dtype(
         ("duty", np.float64),
         ("current_sq", np.float64),
         ("slew_sq", np.float64),
+        ("head", np.int64),
     ],
     align=True,
 )
@@ -217,6 +272,9 @@ class VirtualPlant(NamedTuple):
         Scratch: every channel's reading of the current loop.
     held : ndarray (1,) of :data:`HELD_STATE`
         State held between stages and loops.
+    output_line : ndarray (N,)
+        The valve commands [V] of the last N loops, N the controller's output
+        delay in loops (a ring buffer; N = 1: the command is applied at once).
     """
 
     table: np.ndarray
@@ -229,6 +287,7 @@ class VirtualPlant(NamedTuple):
     work: np.ndarray
     readings: np.ndarray
     held: np.ndarray
+    output_line: np.ndarray
 
 
 class LoopControl(NamedTuple):

@@ -1,7 +1,9 @@
 """Sensors of the shake table and the feedback force (report Table 7.1, Section 7.3.4, Appendix A).
 
 Each sensor maps a physical value to volts with its calibration
-(``value = scale * volts + offset``, Table 7.1), adds white noise [V rms],
+(``value = scale * volts + offset``, Table 7.1), optionally passes it through
+an analog anti-alias filter (:meth:`Sensor.anti_alias_filter`, a Butterworth
+low-pass of ``bandwidth_hz``; the report's channels have none), adds white noise [V rms],
 saturates at its conditioner limit (+-10 V) and is read by a 16-bit
 analog input over +-10 V (Section 7.2.2: "All input/outputs are +-10 V
 analog with 16-bit resolution"), then converted back to the physical value.
@@ -38,7 +40,8 @@ import numba
 import numpy as np
 
 from ..errors import ConfigError
-from ..units import G0
+from ..lti import StateSpace
+from ..units import G0, TWO_PI
 
 #: Resolution of the RMC75E analog inputs [bits] (Section 7.2.2).
 ADC_BITS = 16
@@ -56,6 +59,9 @@ QUANTITIES = (
     "actuator_force",
     "interface_force",
 )
+
+#: Orders of the Butterworth anti-alias filter a channel may have (:meth:`Sensor.anti_alias_filter`).
+FILTER_ORDERS = (1, 2)
 
 #: Reaction load cells in the order of Section 3.5 and their signs in the
 #: RMC sum w := -(AI5 + AI6 + AI7 - AI8) * 200 (Figure 7.9).
@@ -90,6 +96,12 @@ class Sensor:
         Resolution of the analog input [bits] (16, Section 7.2.2).
     adc_range_v : float
         Full scale of the analog input, +- [V] (10).
+    bandwidth_hz : float, optional
+        -3 dB frequency [Hz] of the channel's analog anti-alias filter, a
+        Butterworth low-pass of ``filter_order`` acting on the signal before
+        noise, saturation and quantization; None (the report's channels): no filter.
+    filter_order : int
+        Order of that filter, 1 or 2 (default 2); only with ``bandwidth_hz``.
     """
 
     name: str
@@ -102,6 +114,8 @@ class Sensor:
     saturation_v: float = ADC_RANGE_V
     adc_bits: int = ADC_BITS
     adc_range_v: float = ADC_RANGE_V
+    bandwidth_hz: float | None = None
+    filter_order: int = 2
 
     def __post_init__(self):
         if self.quantity not in QUANTITIES:
@@ -118,6 +132,43 @@ class Sensor:
             raise ConfigError(f"{self.name}.adc_range_v", "a positive input range [V]", self.adc_range_v)
         if not (math.isfinite(self.offset) and math.isfinite(self.gain)):
             raise ConfigError(f"{self.name}.offset", "finite offset and gain")
+        if self.bandwidth_hz is not None and not (math.isfinite(self.bandwidth_hz) and self.bandwidth_hz > 0):
+            raise ConfigError(
+                f"{self.name}.bandwidth_hz", "a positive finite bandwidth [Hz]", self.bandwidth_hz
+            )
+        if self.filter_order not in FILTER_ORDERS or isinstance(self.filter_order, bool):
+            raise ConfigError(f"{self.name}.filter_order", "1 or 2", self.filter_order)
+
+    def anti_alias_filter(self) -> StateSpace | None:
+        """The channel's analog anti-alias filter, a continuous Butterworth low-pass (None: no filter).
+
+        Input the true channel value, output the filtered value (same unit,
+        unit DC gain), ``omega_c = 2 pi bandwidth_hz`` [rad/s]:
+
+        * order 1: ``H(s) = omega_c / (s + omega_c)``, state ``y``;
+        * order 2: ``H(s) = omega_c^2 / (s^2 + sqrt(2) omega_c s + omega_c^2)``,
+          states ``y`` and ``y' / omega_c`` (scaled so that both are of the
+          signal's size).
+
+        The output is the first state (``C = [1, 0]``, ``D = 0``) for both
+        orders; this one definition gives the virtual lab's exact
+        discretization (:func:`impedance_mil.lab.setup.sensor_arrays`).
+
+        Examples
+        --------
+        >>> s = Sensor("x", "table_displacement", "in", 1.0, bandwidth_hz=100.0)
+        >>> h = s.anti_alias_filter().frequency_response([100.0])[0]
+        >>> round(float(abs(h)) ** 2, 6)  # -3 dB at the bandwidth
+        0.5
+        """
+        if self.bandwidth_hz is None:
+            return None
+        wc = TWO_PI * self.bandwidth_hz
+        if self.filter_order == 1:
+            return StateSpace([[-wc]], [[wc]], [[1.0]], 0.0, states=("y",))
+        return StateSpace(
+            [[0.0, wc], [-wc, -math.sqrt(2.0) * wc]], [[0.0], [wc]], [[1.0, 0.0]], 0.0, states=("y", "dy/wc")
+        )
 
     @property
     def lsb_v(self) -> float:
@@ -371,12 +422,31 @@ def measure_kernel(
         ``out``.
     """
     for i in range(out.size):
-        value = gain[i] * quantities[quantity_index[i]]
-        volts = (value - offset[i]) / scale[i] + noise_rms[i] * draws[i]
-        volts = math.floor(volts / lsb[i] + 0.5) * lsb[i]
-        volts = min(max(volts, v_low[i]), v_high[i])
-        out[i] = scale[i] * volts + offset[i]
+        out[i] = read_channel(
+            gain[i] * quantities[quantity_index[i]],
+            draws[i],
+            scale[i],
+            offset[i],
+            noise_rms[i],
+            lsb[i],
+            v_low[i],
+            v_high[i],
+        )
     return out
+
+
+@numba.njit(cache=True, inline="always")
+def read_channel(value, draw, scale, offset, noise_rms, lsb, v_low, v_high):
+    """Compiled reading of one channel [unit] for its analog ``value`` [unit] (before noise).
+
+    ``draw`` is the channel's standard-normal number; the other arguments are
+    the channel's entries of the :class:`SensorSuite` arrays.  Noise, the
+    converter's rounding and its limits, as :meth:`SensorSuite.measure`.
+    """
+    volts = (value - offset) / scale + noise_rms * draw
+    volts = math.floor(volts / lsb + 0.5) * lsb
+    volts = min(max(volts, v_low), v_high)
+    return scale * volts + offset
 
 
 @numba.njit(cache=True, inline="always")

@@ -152,3 +152,19 @@ def test_a_preset_carries_the_specimen_actually_used():
     # A w_ps the user sets is kept, without a note.
     chosen = mil_test(Choices(vs="FP2", specimen="rigid", specimen_weight=2000, vs_overrides={"w_ps": 2500}))
     assert chosen.vs_spec.vs.to_dict()["w_ps"] == 2500.0 and chosen.vs_spec.notes == ()
+
+
+def test_a_labs_output_delay_and_filters_reach_the_run(tmp_path):
+    # Issue 12: [controller] output_delay and [sensors.NAME] bandwidth are the lab's, and the
+    # run's LabChoice (what experiments pass to simulate) carries them; the report's is 1 loop.
+    lab = tmp_path / "l.toml"
+    lab.write_text(
+        f'[table]\nfile = "{default_table_path()}"\n[controller]\noutput_delay = "3 loops"\n'
+        '[sensors.x]\nquantity = "displacement"\nrange = "4 in"\nbandwidth = "250 Hz"\n'
+        '[sensors.z]\nquantity = "acceleration"\nrange = "5 g0"\n'
+        '[sensors.dp]\nquantity = "differential_pressure"\nrange = "3000 psi"\n'
+    )
+    test = tracking_test(Choices(lab=str(lab), feedback="fe"))
+    assert test.lab.output_delay == 3
+    assert [s.bandwidth_hz for s in test.lab.sensors.sensors] == [250.0, None, None]
+    assert tracking_test(Choices()).lab.output_delay == 1

@@ -52,7 +52,7 @@ def test_running_averages_follow_the_closed_form(table):
     still = Measurements(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     n = 300
     for _ in range(n):
-        hydraulic_command(pa, limits, held, still, 10.0)  # 10 in of error: saturated
+        hydraulic_command(pa, limits, held, np.zeros(1), still, 10.0)  # 10 in of error: saturated
     factor = 1.0 - (1.0 - T / limits.interlock_window) ** n
     i_sat = table.Kv * table.valve_command_limit
     assert held["duty"][0] == pytest.approx(factor, rel=1e-12)

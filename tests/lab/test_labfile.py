@@ -18,6 +18,7 @@ from impedance_mil.lab.clipping import clipped_channels
 from impedance_mil.lab.labfile import load_lab
 from impedance_mil.lab.setup import SafetyLimits, default_sensors
 from impedance_mil.plant import TableParameters, default_table_path
+from impedance_mil.plausibility import PlausibilityWarning
 
 TABLE = default_table_path()
 
@@ -88,11 +89,20 @@ def test_a_bare_table_takes_generic_defaults_not_the_reports(tmp_path):
             "sensors.x.resolution",
         ),
         (
-            '[sensors.x]\nquantity = "displacement"\nrange = "1 in"\nbandwidth = "1 kHz"\n',
+            '[sensors.x]\nquantity = "displacement"\nrange = "1 in"\nbandwidth = "-1 kHz"\n',
             "sensors.x.bandwidth",
         ),
+        (
+            '[sensors.x]\nquantity = "displacement"\nrange = "1 in"\nbandwidth = "1 kHz"\nfilter_order = 4\n',
+            "sensors.x.filter_order",
+        ),
+        (
+            '[sensors.x]\nquantity = "displacement"\nrange = "1 in"\nfilter_order = 2\n',
+            "sensors.x.filter_order",
+        ),
         ('[controller]\noutput_delay = "700 us"\n', "controller.output_delay"),
-        ("[controller]\noutput_delay = 2\n", "controller.output_delay"),
+        ("[controller]\noutput_delay = 0\n", "controller.output_delay"),
+        ('[controller]\noutput_delay = "2.5 loops"\n', "controller.output_delay"),
         ('[limits]\nvalve_command = "12 V"\n', "limits.valve_command"),
         ('[specimen]\narticle_weight = "3 in"\n', "specimen.article_weight"),
     ],
@@ -120,3 +130,34 @@ def test_a_table_file_with_lab_sections_is_read_as_a_lab_not_ignored(tmp_path):
     bogus = _lab(tmp_path, "[bogus]\nx = 1\n")
     with pytest.raises(ConfigError, match=r"\[bogus\]"):
         load_lab(table=bogus)
+
+
+def test_a_channel_takes_an_anti_alias_filter(tmp_path):
+    lab = load_lab(
+        _lab(tmp_path, '[sensors.x]\nquantity = "displacement"\nrange = "1 in"\nbandwidth = "0.2 kHz"\n')
+    )
+    (x,) = lab.sensors.suite.sensors
+    assert (x.bandwidth_hz, x.filter_order) == (200.0, 2)
+    doc = lab.to_dict()["sensors"]["channels"][0]
+    assert (doc["bandwidth"], doc["filter_order"]) == (200.0, 2)
+    plain = load_lab(_lab(tmp_path, '[sensors.x]\nquantity = "displacement"\nrange = "1 in"\n'))
+    assert plain.sensors.suite.sensors[0].bandwidth_hz is None
+
+
+def test_a_bandwidth_at_or_above_nyquist_is_a_warning_not_a_refusal(tmp_path):
+    # The report's loop of 500 us: Nyquist 1000 Hz.
+    text = '[sensors.x]\nquantity = "displacement"\nrange = "1 in"\nbandwidth = "1 kHz"\nfilter_order = 1\n'
+    with pytest.warns(
+        PlausibilityWarning, match=r"sensors\.x\.bandwidth: 1000 Hz .* Nyquist frequency \(1000 Hz\)"
+    ):
+        lab = load_lab(_lab(tmp_path, text))
+    assert lab.sensors.suite.sensors[0].filter_order == 1
+
+
+@pytest.mark.parametrize("value, loops", [(2, 2), ('"3 loops"', 3), ('"1 loop"', 1), ('"1.5 ms"', 3)])
+def test_the_output_delay_is_a_whole_number_of_loops(tmp_path, value, loops):
+    lab = load_lab(_lab(tmp_path, f"[controller]\noutput_delay = {value}\n"))
+    assert lab.controller.output_delay == loops
+    if loops > 1:
+        with pytest.raises(ConfigError, match="controller.output_delay: expected 1 loop for imil design"):
+            lab.require_one_loop_delay("imil design")

@@ -13,6 +13,7 @@ import scipy.linalg
 from impedance_mil.errors import ConfigError
 from impedance_mil.lab.kernels import plant_advance
 from impedance_mil.lab.plant_interface import specimen_arrays
+from impedance_mil.lab.structures import FilterArrays
 from impedance_mil.plant.nonlinear import (
     IX_P1,
     IX_P2,
@@ -27,6 +28,9 @@ from impedance_mil.plant.nonlinear import (
 from .conftest import eq_4_11, eq_4_14b, ss_response
 
 F_HZ = np.logspace(np.log10(0.25), 2, 60)  # 0.25 .. 100 Hz
+
+#: The bare plant step: no sensor filters.
+NO_FILTERS = FilterArrays.none()
 
 
 def _table(p, **kw):
@@ -127,7 +131,7 @@ def test_small_amplitude_sampled_loop_frf_equals_linear_sampled_model(table41):
         x_rec[k], dp_rec[k] = xt[IX_X], xt[IX_P1] - xt[IX_P2]
         uv = valve_command(pa, u[k], x_prev, dp_prev)
         x_prev, dp_prev = x_rec[k], dp_rec[k]
-        plant_advance(pa, xt, *bare, table.Kv * uv, T, 2, work)
+        plant_advance(pa, xt, *bare, table.Kv * uv, T, 2, work, NO_FILTERS)
     U = np.fft.rfft(u[-n_per:])[bins]
     f = bins / (n_per * T)
     for rec, row in ((x_rec, np.eye(5)[0]), (dp_rec, np.eye(5)[2])):
@@ -196,7 +200,7 @@ def test_end_stop_holds_the_table(table41):
     xt = table.equilibrium_state()
     bare, work = specimen_arrays(None), np.empty((5, 6))
     for _ in range(2000):
-        plant_advance(pa, xt, *bare, 30.0, 500e-6, 4, work)
+        plant_advance(pa, xt, *bare, 30.0, 500e-6, 4, work, NO_FILTERS)
     assert table.mid_stroke < xt[IX_X] < table.mid_stroke + 0.05
     assert xt[IX_S] == pytest.approx(30.0, rel=1e-3)
 

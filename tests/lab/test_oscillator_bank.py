@@ -7,6 +7,7 @@ import pytest
 
 from impedance_mil.lab.kernels import SPEC_BANK, SPEC_CSR, plant_advance
 from impedance_mil.lab.plant_interface import specimen_arrays
+from impedance_mil.lab.structures import FilterArrays
 from impedance_mil.lab.substeps import resolve_substeps
 from impedance_mil.plant.nonlinear import N_TABLE_STATES, NonlinearTable
 from impedance_mil.specimens import FluidVessel, LinearMDOF, RigidMass
@@ -14,6 +15,9 @@ from impedance_mil.specimens import FluidVessel, LinearMDOF, RigidMass
 from .conftest import report_parameters
 
 N_TICKS = 4000  # 2 s of 500 us loops: several periods of the 0.9 Hz sloshing mode
+
+#: The bare plant step: no sensor filters.
+NO_FILTERS = FilterArrays.none()
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +37,9 @@ def _trajectory(table, specimen, arrays):
     current = amp * (0.7 * np.sin(2 * np.pi * 2.0 * t) + 0.3 * np.sin(2 * np.pi * 23.0 * t))
     out = np.empty((N_TICKS, n))
     for k in range(N_TICKS):
-        plant_advance(table.parameter_array(), y, *arrays, current[k], table.loop_time, nsub, work)
+        plant_advance(
+            table.parameter_array(), y, *arrays, current[k], table.loop_time, nsub, work, NO_FILTERS
+        )
         out[k] = y
     return out
 
