@@ -120,3 +120,36 @@ def test_a_table_file_with_lab_sections_is_read_as_a_lab_not_ignored(tmp_path):
     bogus = _lab(tmp_path, "[bogus]\nx = 1\n")
     with pytest.raises(ConfigError, match=r"\[bogus\]"):
         load_lab(table=bogus)
+
+
+def test_controller_io_units_are_taken_as_written(tmp_path):
+    # The units of the exported code (imil export --lab); 1 kN = 1000 / (0.45359237 * 9.80665) lbf.
+    lab = load_lab(_lab(tmp_path, '[controller]\nio_units = {accel = "m/s**2", force = "kN", disp = "mm"}\n'))
+    io = lab.controller.io_units
+    assert io.force.to_internal == pytest.approx(1000 / (0.45359237 * 9.80665), rel=1e-15)
+    assert io.disp.from_internal == pytest.approx(25.4, rel=1e-15)
+    assert lab.to_dict()["controller"]["io_units"] == "accel=m/s**2,force=kN,disp=mm"
+    assert lab.sources["controller.io_units"] == "file"
+    assert (
+        load_lab(_lab(tmp_path, '[controller]\nio_units = "si"\n')).to_dict()["controller"]["io_units"]
+        == "si"
+    )
+    bare = load_lab(table=TABLE)
+    assert bare.controller.io_units.is_internal and "controller.io_units" in bare.defaults
+    assert load_lab("report").controller.io_units.is_internal
+
+
+@pytest.mark.parametrize(
+    "value, key",
+    [
+        ('"si,force=mm"', "controller.io_units force"),
+        ('{accel = "g", force = "N", disp = "mm"}', "controller.io_units accel"),
+        ('{accel = "m/s**2", force = "N"}', "controller.io_units disp"),
+        ("3", "controller.io_units"),
+    ],
+)
+def test_bad_io_units_name_the_key(tmp_path, value, key):
+    with pytest.raises(ConfigError) as err:
+        load_lab(_lab(tmp_path, f"[controller]\nio_units = {value}\n"))
+    assert str(err.value).startswith(f"lab.toml: {key}:")
+    assert "\n" not in str(err.value)
