@@ -148,21 +148,8 @@ def io_fields(io: IOUnits, limits: CommandLimits, precision: str, prefix: str, r
         + "\n".join(f"#define {P}_{n} {c_literal(v, precision)}  /* {t} */" for n, v, t in factors),
         step_static="static ",
         step_internal="_internal",
-        io_step=(
-            f"\n/* The step in the I/O units: inputs to the internal units, the safe command back. */\n"
-            f"{rt} {prefix}_step({prefix}_state_t *s, {rt} z_vs, {rt} w)\n{{\n"
-            f"    return {prefix}_step_internal(s, z_vs * {P}_ACCEL_TO_INTERNAL, w * {P}_FORCE_TO_INTERNAL)\n"
-            f"        * {P}_DISP_FROM_INTERNAL;\n}}\n"
-        ),
-        io_mil_step=(
-            f"\n/* The MIL step in the I/O units: inputs to the internal units, u and z_vs back. */\n"
-            f"{rt} {prefix}_mil_step({prefix}_state_t *s, {rt} a_g, {rt} w, {rt} *z_vs_out)\n{{\n"
-            f"    {rt} z_vs;\n"
-            f"    const {rt} u = {prefix}_mil_step_internal(s, a_g * {P}_ACCEL_TO_INTERNAL,\n"
-            f"        w * {P}_FORCE_TO_INTERNAL, &z_vs);\n"
-            f"    if (z_vs_out) *z_vs_out = z_vs * {P}_ACCEL_FROM_INTERNAL;\n"
-            f"    return u * {P}_DISP_FROM_INTERNAL;\n}}\n"
-        ),
+        io_step=_template("io_step.c.tmpl").substitute(rt=rt, prefix=prefix, PREFIX=P),
+        io_mil_step=_template("io_mil_step.c.tmpl").substitute(rt=rt, prefix=prefix, PREFIX=P),
     )
     return fields
 

@@ -203,10 +203,10 @@ def _guarded(prefix_lines: list[str], body: list[str], extra_hold=(), u="u", out
 
 def _mil_block(controller, vs, prefix, precision, real, limits, io: IOUnits) -> str:
     d = definition_of(vs)
-    names = replace(_Names.of(io), u_z="u_z", u_w="u_w")  # u_z, u_w are locals here
-    io_code = _io_code(io, names, ("a_g", "w"), ("u", "z_vs"), real, lambda v: st_literal(v, precision))
     n = d.n_states
     lit = lambda v: st_literal(v, precision)  # noqa: E731
+    names = replace(_Names.of(io), u_z="u_z", u_w="u_w")  # u_z, u_w are locals here
+    io_code = _io_code(io, names, ("a_g", "w"), ("u", "z_vs"), real, lit)
     consts, inter = set(d.kernel_constants), {t for t, _ in d.intermediates}
 
     def name(x: str) -> str:
@@ -295,10 +295,17 @@ def _mil_block(controller, vs, prefix, precision, real, limits, io: IOUnits) -> 
     return (
         f"\n(* Figures 7.9-7.11 (corrected): {d.kind} virtual system ({d.title}; {d.source}) "
         f"and the controller in one loop.  States: {', '.join(d.states)}. *)\n"
-        f"FUNCTION_BLOCK {prefix}_mil\nVAR_INPUT\n    a_g : {real};{_unit_note(io, 'accel')}\n"
+        f"FUNCTION_BLOCK {prefix}_mil\n{_mil_interface(real, io)}{cdecls}\n" + scan + "\nEND_FUNCTION_BLOCK\n"
+    )
+
+
+def _mil_interface(real: str, io: IOUnits) -> str:
+    """VAR_INPUT and VAR_OUTPUT of the MIL block, each in its I/O unit."""
+    return (
+        f"VAR_INPUT\n    a_g : {real};{_unit_note(io, 'accel')}\n"
         f"    w : {real};{_unit_note(io, 'force')}\n{_SAFETY_INPUTS.format(real=real)}END_VAR\n"
         f"VAR_OUTPUT\n    u : {real};{_unit_note(io, 'disp')}\n    z_vs : {real};{_unit_note(io, 'accel')}\n"
-        f"{_SAFETY_OUTPUTS}END_VAR\n{cdecls}\n" + scan + "\nEND_FUNCTION_BLOCK\n"
+        f"{_SAFETY_OUTPUTS}END_VAR\n"
     )
 
 
