@@ -3,12 +3,18 @@
     imil export DESIGN.json --format c --precision single --prefix imil -o out/
     imil export --table table.toml --vs SD2 --fc 80 --format st -o out/
     imil export DESIGN.json --stroke "3 in" --max-rate "40 in/s" -o out/
+    imil export DESIGN.json --io-units si -o out/          (reads m/s**2 and N, writes mm)
 
 The generated C and ST carry a safety layer (``implement.safety``): a clamp to
 the stroke and a rate limit on the command, from the design's table (its
 mid-stroke and the valve's velocity capacity) unless ``--stroke`` and
 ``--max-rate`` say otherwise (at most the table's), input and overflow guards
 and a fault word.
+
+``--io-units`` (default the lab file's ``[controller] io_units`` with
+``--lab``, else ``us``) sets the units the generated code reads and writes:
+``us`` (in/s^2, lbf, in; the code without scaling), ``si`` (m/s**2, N, mm) or
+``accel=UNIT,force=UNIT,disp=UNIT`` (:mod:`impedance_mil.implement.io_units`).
 
 Designing here uses the report's controller form and filter (``[design]`` of
 the report's setup file); ``--precision`` defaults to the report's.
@@ -27,7 +33,9 @@ import typer
 from ..design import design_controller, load_design, table_model, virtual_model
 from ..errors import ConfigError, DataFileError, ImilError
 from ..implement.export import FORMATS, controller_from_design, designed_vs, render, write_directory
+from ..implement.io_units import IOUnits
 from ..implement.safety import command_limits
+from ..lab.labfile import load_lab
 from ..report_config import report_config
 from ..virtual.files import resolve
 from .common import LabOpt, console, table_parameters
@@ -94,11 +102,21 @@ def export(
         "--max-rate",
         help="Command rate limit, e.g. '40 in/s' (default: the valve's velocity capacity).",
     ),
+    io_units: str | None = typer.Option(
+        None,
+        "--io-units",
+        help="Units the code reads and writes: us (in/s^2, lbf, in), si (m/s**2, N, mm) or "
+        "accel=UNIT,force=UNIT,disp=UNIT (default: the --lab file's, else us).",
+    ),
     force: bool = typer.Option(False, "--force", help="Replace an existing output directory."),
 ) -> None:
     """Export a discretized MIL controller as C, IEC 61131-3 ST, JSON or CSV."""
     if fmt not in FORMATS:
         raise ConfigError("--format", "one of " + ", ".join(FORMATS), fmt)
+    if io_units is not None:
+        io = IOUnits.parse(io_units, "--io-units")
+    else:
+        io = load_lab(lab).controller.io_units if lab is not None else IOUnits.internal()
     design = _design(design_file, table, vs, fc, lab)
     spec = resolve(vs) if vs is not None else None
     precision = report_config().controller.precision if precision is None else precision
@@ -114,9 +132,13 @@ def export(
         limits = (
             command_limits(design.table, stroke=stroke, max_rate=max_rate) if fmt in ("c", "st") else None
         )
-        files = render(controller, fmt, precision, prefix, vs=vs_obj, design_summary=summary, limits=limits)
+        files = render(
+            controller, fmt, precision, prefix, vs=vs_obj, design_summary=summary, limits=limits, io_units=io
+        )
     out = write_directory(files, output, force=force)
     console.print(f"wrote {', '.join(sorted(files))} to {out}")
+    if not io.is_internal:
+        console.print(f"I/O units {io.spec}: {io.describe()}")
     if chosen.note:
         console.print(f"note: {chosen.note}")
     elif fmt in ("c", "st") and vs_obj is None:

@@ -64,6 +64,11 @@ def show(
         _say(
             f"  {ch['name']:14s} {ch['quantity']:22s} {low:.6g} to {high:.6g} {ch['unit']}, "
             f"step {ch['resolution']:.3g}, noise {ch['noise_rms']:.3g} rms, share {ch['share']:g}"
+            + (
+                ""
+                if ch.get("bandwidth") is None
+                else f", anti-alias {ch['bandwidth']:g} Hz (order {ch['filter_order']})"
+            )
         )
 
 

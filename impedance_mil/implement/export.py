@@ -28,6 +28,7 @@ from ..virtual.vstype import VSType
 from .c import render_c
 from .discretize import DiscreteController, discretize
 from .identifiers import check_c_identifier, check_st_identifier
+from .io_units import IOUnits
 from .runtime import precision_dtype
 from .safety import COEFFICIENTS, CommandLimits, check_renderable
 from .st import render_st
@@ -191,8 +192,15 @@ def _mat(a: np.ndarray, dtype) -> dict:
     return {"shape": list(np.shape(a)) or [], "data": arr.tolist() if np.ndim(a) else float(arr[0])}
 
 
-def coefficients_document(controller: DiscreteController, precision: str) -> dict[str, Any]:
-    """The coefficient file: matrices with shapes, loop time, precision, units, provenance."""
+def coefficients_document(
+    controller: DiscreteController, precision: str, io_units: IOUnits | None = None
+) -> dict[str, Any]:
+    """The coefficient file: matrices with shapes, loop time, precision, units, provenance.
+
+    The coefficients are in the internal units (``units``); with I/O units other
+    than those, an ``io_units`` block (:meth:`IOUnits.to_dict`) gives the unit
+    of each input and output and its factor.
+    """
     dtype = precision_dtype(precision)
     units = {"H_uz": ("z_vs", "in/s^2"), "H_uw": ("w", "lbf")}
     channels = {}
@@ -212,7 +220,7 @@ def coefficients_document(controller: DiscreteController, precision: str) -> dic
             "sections": [s.form for s in ch.sections],
             "continuous": ch.continuous.to_dict(),
         }
-    return {
+    doc = {
         "format": COEFF_FORMAT,
         "version": 1,
         "software_version": _pkg_version,
@@ -230,11 +238,14 @@ def coefficients_document(controller: DiscreteController, precision: str) -> dic
         "channels": channels,
         "design": controller.source,
     }
+    if io_units is not None and not io_units.is_internal:
+        doc["io_units"] = io_units.to_dict()
+    return doc
 
 
-def coefficients_csv(controller: DiscreteController, precision: str) -> str:
-    """CSV ``channel,matrix,row,col,value`` after ``#`` header lines (loop time, units ...)."""
-    doc = coefficients_document(controller, precision)
+def coefficients_csv(controller: DiscreteController, precision: str, io_units: IOUnits | None = None) -> str:
+    """CSV ``channel,matrix,row,col,value`` after ``#`` header lines (loop time, units, I/O units ...)."""
+    doc = coefficients_document(controller, precision, io_units)
     buf = io.StringIO()
     for key in (
         "format",
@@ -249,6 +260,13 @@ def coefficients_csv(controller: DiscreteController, precision: str) -> str:
     ):
         buf.write(f"# {key}: {doc[key]}\n")
     buf.write("# units: z_vs in/s^2, w lbf, u in\n")
+    if "io_units" in doc:
+        z, w, u = (doc["io_units"][k] for k in ("z_vs", "w", "u"))
+        buf.write(
+            f"# io_units: {doc['io_units']['spec']}: z_vs {z['unit']} (x {z['to_internal']!r} -> in/s^2), "
+            f"w {w['unit']} (x {w['to_internal']!r} -> lbf), u {u['unit']} (= in x {u['from_internal']!r}); "
+            "the coefficients are in the internal units\n"
+        )
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(["channel", "matrix", "row", "col", "value"])
     for name, ch in doc["channels"].items():
@@ -270,6 +288,7 @@ def render(
     design_summary: str = "",
     *,
     limits: CommandLimits | None = None,
+    io_units: IOUnits | None = None,
 ) -> dict[str, str]:
     """``{file name: text}`` of one export format (no file is written).
 
@@ -278,12 +297,15 @@ def render(
     limits : CommandLimits
         The safety layer's limits (:func:`~impedance_mil.implement.safety.command_limits`);
         required for ``c`` and ``st``.
+    io_units : IOUnits, optional
+        The units the generated code reads and writes (default the internal units:
+        the output is what it was without them); recorded by ``json`` and ``csv``.
 
     Raises
     ------
     ConfigError
         An unknown format or precision, a prefix that is not an identifier,
-        C/ST without ``limits``, or a number the precision cannot hold
+        C/ST without ``limits``, or a number (I/O unit factors included) the precision cannot hold
         (:func:`~impedance_mil.implement.safety.check_renderable`), for every
         format: the coefficient files hold the values rounded to the precision.
     """
@@ -293,22 +315,34 @@ def render(
     for ch in controller.channels:
         check_renderable(ch.name, ch.system_matrix(), precision, COEFFICIENTS)
     check_renderable("loop_time_s", controller.loop_time_s, precision, "a loop time")
+    io = io_units or IOUnits.internal()
+    io.check(precision)
     if fmt in ("c", "st"):
         if limits is None:
             raise ConfigError("limits", "the safety layer's command limits for generated code")
         if fmt == "c":
             return render_c(
-                controller, precision, prefix, vs=vs, design_summary=design_summary, limits=limits
+                controller,
+                precision,
+                prefix,
+                vs=vs,
+                design_summary=design_summary,
+                limits=limits,
+                io_units=io,
             ).files
-        return render_st(controller, precision, prefix, vs=vs, design_summary=design_summary, limits=limits)
+        return render_st(
+            controller, precision, prefix, vs=vs, design_summary=design_summary, limits=limits, io_units=io
+        )
     check_c_identifier(prefix)
     check_st_identifier(prefix)
     if fmt == "json":
         return {
-            f"{prefix}_coefficients.json": json.dumps(coefficients_document(controller, precision), indent=2)
+            f"{prefix}_coefficients.json": json.dumps(
+                coefficients_document(controller, precision, io), indent=2
+            )
             + "\n"
         }
-    return {f"{prefix}_coefficients.csv": coefficients_csv(controller, precision)}
+    return {f"{prefix}_coefficients.csv": coefficients_csv(controller, precision, io)}
 
 
 def write_directory(files: dict[str, str], out_dir: str | os.PathLike, force: bool = False) -> Path:

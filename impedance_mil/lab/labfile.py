@@ -8,7 +8,7 @@ Sections (TOML, every value with a unit or in the report's unit)::
                    interlock_window, divergence
     [sensors]      clipping = "warn" | "fail", and [sensors.NAME] channels (lab.labsensors)
     [controller]   loop_time, output_delay (samples), precision, feedback, substeps,
-                   adc_bits, adc_range, dac_range
+                   adc_bits, adc_range, dac_range, io_units (of the exported code)
     [specimen]     kind (vessel, rigid, none or a specimen file), water_depth, article_weight
     units          "us" or "si" (top level): the units of what the commands print
 
@@ -31,6 +31,7 @@ from typing import Any
 from ..config import Field, parse_fields, quantity, read_toml
 from ..display import UnitSystem, unit_system
 from ..errors import ConfigError
+from ..implement.io_units import IOUnits
 from ..plant import TableParameters
 from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
@@ -70,7 +71,7 @@ CONTROLLER_FIELDS = {
     "adc_range": Field("volt", default=0.0, help="+- analog-input range"),
     "dac_range": Field("volt", default=0.0, help="+- analog-output range"),
 }
-_CONTROLLER_TEXT = ("precision", "feedback", "substeps", "output_delay")
+_CONTROLLER_TEXT = ("precision", "feedback", "substeps", "output_delay", "io_units")
 
 #: Specimen keys.
 _SPECIMEN_KEYS = ("kind", "water_depth", "article_weight")
@@ -91,6 +92,7 @@ GENERIC_DEFAULTS = {
     "controller.adc_bits": "16",
     "controller.adc_range": "10 V",
     "controller.dac_range": "the valve command",
+    "controller.io_units": "us (the exported code reads in/s^2 and lbf, writes in)",
     "specimen.kind": "none (the bare table)",
 }
 
@@ -101,7 +103,11 @@ FEEDBACKS = ("lc", "fe", "none")
 
 @dataclass(frozen=True)
 class ControllerSetup:
-    """Loop time [s], output delay [loops], precision, feedback, substeps, converters."""
+    """Loop time [s], output delay [loops], precision, feedback, substeps, converters, I/O units.
+
+    ``io_units`` are the units the exported controller reads and writes
+    (:class:`~impedance_mil.implement.io_units.IOUnits`; ``imil export --lab``).
+    """
 
     loop_time: float
     output_delay: int
@@ -110,6 +116,7 @@ class ControllerSetup:
     substeps: int | str
     adc: Converter
     dac_range_v: float
+    io_units: IOUnits = field(default_factory=IOUnits.internal)
 
 
 @dataclass(frozen=True)
@@ -215,6 +222,7 @@ class LabSetup:
                 "adc_bits": self.controller.adc.bits,
                 "adc_range": self.controller.adc.range_v,
                 "dac_range": self.controller.dac_range_v,
+                "io_units": self.controller.io_units.spec,
             },
             "specimen": {
                 "kind": self.specimen.kind,
@@ -378,7 +386,8 @@ def _controller(section: Any, table: TableParameters, where: str, sources: dict)
         raise ConfigError(f"{where}controller.adc_bits", "a whole number of bits from 2 to 32", bits)
     adc = Converter(bits, given.get("adc_range", 10.0))
     dac = given.get("dac_range", table.valve_command_limit)
-    return ControllerSetup(loop, round(loops), precision, feedback, substeps, adc, dac)
+    io_units = IOUnits.parse(text.get("io_units", "us"), f"{where}controller.io_units")
+    return ControllerSetup(loop, round(loops), precision, feedback, substeps, adc, dac, io_units)
 
 
 def _output_delay(value: Any, loop: float, key: str) -> int:

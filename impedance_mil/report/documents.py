@@ -36,6 +36,7 @@ from typing import Any
 
 from ..campaign.kinds import KINDS
 from ..display import UnitSystem, display_unit, key_suffix, short_name
+from ..fileio import json_safe
 from ..lab.labfile import LAB_UNITS
 from ..plant.parameters import ALTERNATIVES, FIELDS
 from ..virtual.files import UNITS as VS_UNITS
@@ -135,7 +136,7 @@ DIMENSIONLESS = frozenset(
 
 #: Key patterns of pure numbers (``spectral_error_0p25_15hz``, ``n_samples``, ``coherence_min``).
 _DIMENSIONLESS_RE = re.compile(
-    r"^(n_.*|npts|.*_count|.*bits|order_.*|.*time_scale|.*_oil_damping|"
+    r"^(n_.*|npts|.*_count|.*bits|order_.*|.*_order|.*time_scale|.*_oil_damping|"
     r".*(error|ratio|fraction|factor|coherence|misfit).*|spectral_error_.*)$"
 )
 
@@ -168,6 +169,7 @@ _VS_LOOP_UNITS = {
 
 def express(doc: Mapping[str, Any], system: UnitSystem) -> dict[str, Any]:
     """``doc`` (internal units) in ``system``, with ``unit_system`` and ``units`` (see the module)."""
+    doc = json_safe(doc)  # arrays as lists, NaN and inf as null, as the JSON will carry them
     units: dict[str, str] = {}
     given = doc.get("units") if isinstance(doc.get("units"), Mapping) else {}
     body = {k: v for k, v in doc.items() if k not in ("units", "unit_system")}

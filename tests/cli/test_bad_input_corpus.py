@@ -472,6 +472,11 @@ BAD_OPTIONS = {
     "export --max-rate nan": (("export", "d.json", "--max-rate", "nan", "-o", "c"), "rate"),
     "export --leak-hz -1": (("export", "d.json", "--leak-hz", "-1", "-o", "c"), "leak"),
     "export --method bogus": (("export", "d.json", "--method", "bogus", "-o", "c"), "method"),
+    "export --io-units force=mm": (
+        ("export", "d.json", "--io-units", "accel=m/s**2,force=mm,disp=mm", "-o", "c"),
+        "--io-units force",
+    ),
+    "export --io-units bogus": (("export", "d.json", "--io-units", "bogus", "-o", "c"), "--io-units"),
     "identify --rate nan": (
         (
             "identify",
@@ -727,6 +732,7 @@ BAD_LABS = {
         "sensors.x.filter_order",
     ),
     "precision unknown": ('[controller]\nprecision = "half"\n', "controller.precision"),
+    "io_units force in mm": ('[controller]\nio_units = "si,force=mm"\n', "controller.io_units force"),
     "specimen weight in inches": (
         '[specimen]\nkind = "rigid"\narticle_weight = "3 in"\n',
         "specimen.article_weight",

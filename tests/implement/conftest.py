@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 import scipy.signal
 
+from impedance_mil.implement import discretize
 from impedance_mil.implement.safety import CommandLimits
 from impedance_mil.systems import TransferFunction
 
@@ -130,3 +131,9 @@ def broadband_record(duration_s=60.0, dt=LOOP_TIME_S, seed=7, peak=0.35 * 386.08
 @pytest.fixture(scope="session")
 def controller_tfs():
     return standardized_controller()
+
+
+@pytest.fixture(scope="session")
+def discrete(controller_tfs):
+    """The standardized controller discretized at the report's loop time (Tustin)."""
+    return discretize(*controller_tfs, LOOP_TIME_S, fc_hz=FC_HZ)

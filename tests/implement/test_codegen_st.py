@@ -9,6 +9,7 @@ import pytest
 
 from impedance_mil.errors import ConfigError
 from impedance_mil.implement import MILRuntime, discretize
+from impedance_mil.implement.io_units import IOUnits
 from impedance_mil.implement.st import render_st
 from impedance_mil.systems import TransferFunction
 from impedance_mil.virtual import presets
@@ -111,3 +112,18 @@ def test_custom_feedback_of_figure_7_6(discrete):
 def test_invalid_st_prefix_is_rejected(discrete, bad):
     with pytest.raises(ConfigError, match="prefix"):
         render_st(discrete, "single", bad, limits=WIDE_LIMITS)
+
+
+def test_st_with_io_units_parses_and_declares_each_variable_once(small):
+    # The scaled blocks (issue 12, Units out) add factor constants and *_int locals: still
+    # valid ST for blark, and no name declared twice in a POU.
+    io = IOUnits.parse("accel=g0,force=kN,disp=mm")
+    text = render_st(small, "single", "imil", vs=presets.get("FP2"), limits=WIDE_LIMITS, io_units=io)[
+        "imil.st"
+    ]
+    assert blark.parse_source_code(text).exception is None
+    for block in ("imil_controller", "imil_mil"):
+        src = re.search(rf"FUNCTION_BLOCK {block}\n(.*?)END_FUNCTION_BLOCK", text, re.S).group(1)
+        names = re.findall(r"^    (\w+) : ", src, re.M)
+        assert len(names) == len(set(names)), block
+        assert {"accel_to_internal", "disp_from_internal", "w_int", "u_int"} <= set(names)

@@ -161,3 +161,36 @@ def test_the_output_delay_is_a_whole_number_of_loops(tmp_path, value, loops):
     if loops > 1:
         with pytest.raises(ConfigError, match="controller.output_delay: expected 1 loop for imil design"):
             lab.require_one_loop_delay("imil design")
+
+
+def test_controller_io_units_are_taken_as_written(tmp_path):
+    # The units of the exported code (imil export --lab); 1 kN = 1000 / (0.45359237 * 9.80665) lbf.
+    lab = load_lab(_lab(tmp_path, '[controller]\nio_units = {accel = "m/s**2", force = "kN", disp = "mm"}\n'))
+    io = lab.controller.io_units
+    assert io.force.to_internal == pytest.approx(1000 / (0.45359237 * 9.80665), rel=1e-15)
+    assert io.disp.from_internal == pytest.approx(25.4, rel=1e-15)
+    assert lab.to_dict()["controller"]["io_units"] == "accel=m/s**2,force=kN,disp=mm"
+    assert lab.sources["controller.io_units"] == "file"
+    assert (
+        load_lab(_lab(tmp_path, '[controller]\nio_units = "si"\n')).to_dict()["controller"]["io_units"]
+        == "si"
+    )
+    bare = load_lab(table=TABLE)
+    assert bare.controller.io_units.is_internal and "controller.io_units" in bare.defaults
+    assert load_lab("report").controller.io_units.is_internal
+
+
+@pytest.mark.parametrize(
+    "value, key",
+    [
+        ('"si,force=mm"', "controller.io_units force"),
+        ('{accel = "g", force = "N", disp = "mm"}', "controller.io_units accel"),
+        ('{accel = "m/s**2", force = "N"}', "controller.io_units disp"),
+        ("3", "controller.io_units"),
+    ],
+)
+def test_bad_io_units_name_the_key(tmp_path, value, key):
+    with pytest.raises(ConfigError) as err:
+        load_lab(_lab(tmp_path, f"[controller]\nio_units = {value}\n"))
+    assert str(err.value).startswith(f"lab.toml: {key}:")
+    assert "\n" not in str(err.value)

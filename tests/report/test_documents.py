@@ -127,7 +127,9 @@ def test_si_values_are_the_internal_values_times_their_factor():
     us, si = express(DOC, US), express(DOC, SI)
     pairs = zip(sorted(_leaves(us["table"]).items()), sorted(_leaves(si["table"]).items()), strict=True)
     for (key, value), (_, shown_value) in pairs:
-        unit = {"mid_stroke": "inch", "mass": "force_pound * second**2 / inch", "valve_poles_hz": "hertz"}[key]
+        unit = {"mid_stroke": "inch", "mass": "force_pound * second**2 / inch", "valve_poles_hz": "hertz"}[
+            key
+        ]
         factor = display_unit(unit, SI).factor
         expected = [v * factor for v in value] if isinstance(value, list) else value * factor
         assert shown_value == pytest.approx(expected, rel=1e-14)

@@ -36,6 +36,7 @@ from ...virtual.listing import Language, expression_type, tick_statements, value
 from ...virtual.system import DefinedVS
 from ..discretize import DiscreteController
 from ..identifiers import check_c_identifier
+from ..io_units import IOUnits
 from ..runtime import precision_dtype
 from ..safety import (
     COEFFICIENTS,
@@ -101,6 +102,56 @@ def safety_fields(limits: CommandLimits, loop_time_s: float, precision: str, pre
         **{f"{key}_literal": c_literal(value, precision) for key, value in values.items()},
         "loop_time_rtol": repr(limits.loop_time_rtol),
     }
+
+
+def io_fields(io: IOUnits, limits: CommandLimits, precision: str, prefix: str, rt: str) -> dict[str, str]:
+    """Template fields of the I/O units: empty (the code without them) for the internal units.
+
+    Otherwise the step functions become ``static ..._internal`` and public wrappers
+    scale at the edges: each input times its ``P_*_TO_INTERNAL`` factor before the
+    guards and the controller, the safe command (and the MIL step's ``z_vs``) times
+    its ``P_*_FROM_INTERNAL`` factor on output.
+
+    Raises
+    ------
+    ConfigError
+        A factor the precision cannot hold.
+    """
+    a, f, d = io.units
+    fields = dict(
+        z_unit=a.unit, w_unit=f.unit, u_unit=d.unit, io_header="", io_ranges="", io_defines="",
+        step_static="", step_internal="", io_step="", io_mil_step="",
+    )  # fmt: skip
+    if io.is_internal:
+        return fields
+    io.check(precision)
+    P = prefix.upper()
+    factors = [
+        ("ACCEL_TO_INTERNAL", a.to_internal, f"{a.internal} per {a.unit}: z_vs, a_g as read"),
+        ("FORCE_TO_INTERNAL", f.to_internal, f"{f.internal} per {f.unit}: w as read"),
+        ("DISP_FROM_INTERNAL", d.from_internal, f"{d.unit} per {d.internal}: u as returned"),
+        (
+            "ACCEL_FROM_INTERNAL",
+            a.from_internal,
+            f"{a.unit} per {a.internal}: z_vs as the MIL step writes it",
+        ),
+    ]
+    fields.update(
+        io_header=(
+            f"\n *\n * I/O units ({io.spec}): {io.describe()}, with z_vs of the MIL step in {a.unit}.\n"
+            f" * Each input times its {P}_*_TO_INTERNAL factor is in the internal unit above before the\n"
+            f" * guards and the controller; the safe command [in] times {P}_DISP_FROM_INTERNAL is in\n"
+            f" * {d.unit} on output.  The limits below are in the internal units."
+        ),
+        io_ranges=f"\n *                   (in the I/O units: {io.input_ranges(limits)})",
+        io_defines="\n\n/* I/O units: factors between the lab's units and the internal ones (see above). */\n"
+        + "\n".join(f"#define {P}_{n} {c_literal(v, precision)}  /* {t} */" for n, v, t in factors),
+        step_static="static ",
+        step_internal="_internal",
+        io_step=_template("io_step.c.tmpl").substitute(rt=rt, prefix=prefix, PREFIX=P),
+        io_mil_step=_template("io_mil_step.c.tmpl").substitute(rt=rt, prefix=prefix, PREFIX=P),
+    )
+    return fields
 
 
 def _matrix(m: np.ndarray, precision: str) -> str:
@@ -204,6 +255,7 @@ def render_c(
     design_summary: str = "",
     *,
     limits: CommandLimits,
+    io_units: IOUnits | None = None,
 ) -> GeneratedFiles:
     """Generate ``<prefix>.h`` and ``<prefix>.c``.
 
@@ -224,12 +276,15 @@ def render_c(
         The stroke clamp, rate limit and input ranges of the safety layer
         (:func:`impedance_mil.implement.safety.command_limits` derives them
         from a design's table).
+    io_units : IOUnits, optional
+        The units the step reads and writes (:mod:`impedance_mil.implement.io_units`);
+        default the internal units (no scaling).
 
     Raises
     ------
     ConfigError
-        A prefix that is not a C identifier, or a coefficient, VS parameter or
-        limit the precision cannot hold (:func:`~impedance_mil.implement.safety.check_renderable`).
+        A prefix that is not a C identifier, or a coefficient, VS parameter,
+        limit or I/O unit factor the precision cannot hold (:func:`~impedance_mil.implement.safety.check_renderable`).
     """
     check_c_identifier(prefix)
     precision_dtype(precision)
@@ -242,6 +297,8 @@ def render_c(
     n_z, n_w = controller.z.n_states, controller.w.n_states
     n_vs = definition_of(vs).n_states if vs is not None else 0
     loop_time = c_literal(controller.loop_time_s, precision)
+    rt = f"{prefix}_real_t"
+    io = io_fields(io_units or IOUnits.internal(), limits, precision, prefix, rt)
     fields = dict(
         prefix=prefix,
         PREFIX=prefix.upper(),
@@ -269,17 +326,20 @@ def render_c(
         mil_decl="",
         vs_code="",
         **safety,
+        **io,
     )
     if vs is not None:
-        rt = f"{prefix}_real_t"
         fields["mil_decl"] = (
             f"\n/* One MIL loop (Figure 7.9, corrected): z_vs from the VS state, one RK3 step,\n"
-            f" * then {prefix}_step(z_vs, w).  Returns u [in]; writes z_vs [in/s^2] if non-NULL. */\n"
+            f" * then {prefix}_step(z_vs, w).  Returns u [{io['u_unit']}]; writes z_vs [{io['z_unit']}] "
+            "if non-NULL. */\n"
             f"{rt} {prefix}_mil_step({prefix}_state_t *s, {rt} a_g, {rt} w, {rt} *z_vs_out);\n"
             f"void {prefix}_mil_run({prefix}_state_t *s, const {rt} *a_g, const {rt} *w,\n"
             f"                   {rt} *u, {rt} *z_vs, long n);\n"
         )
-        fields["vs_code"] = _template("vs.c.tmpl").substitute(_vs_code(vs, prefix, precision, loop_time))
+        fields["vs_code"] = _template("vs.c.tmpl").substitute(
+            {**_vs_code(vs, prefix, precision, loop_time), **io}
+        )
     header = _template("header.h.tmpl").substitute(fields)
     source = _template("source.c.tmpl").substitute(fields)
     return GeneratedFiles({f"{prefix}.h": header, f"{prefix}.c": source})

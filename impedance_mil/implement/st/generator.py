@@ -12,6 +12,7 @@ evaluates left to right reproduces the runtime.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, fields, replace
 from importlib import resources
 from string import Template
 
@@ -24,6 +25,7 @@ from ...virtual.stepping import RK3
 from ..c.generator import definition_of
 from ..discretize import DiscreteController
 from ..identifiers import check_st_identifier
+from ..io_units import IOUnits
 from ..runtime import precision_dtype
 from ..safety import COEFFICIENTS, CommandLimits, Fault, check_renderable
 from . import guards
@@ -39,6 +41,82 @@ def st_literal(value: float, precision: str) -> str:
     elif "." not in text and "e" not in text:
         text += ".0"
     return text.upper().replace("E+", "E")
+
+
+@dataclass(frozen=True)
+class _Names:
+    """The ST names of the values the body computes with, in the internal units.
+
+    Without I/O units they are the block's inputs and outputs; with them, locals
+    ``*_int`` that the scan fills from the inputs and converts into the outputs.
+    """
+
+    z_vs: str = "z_vs"
+    w: str = "w"
+    a_g: str = "a_g"
+    u: str = "u"
+    u_z: str = "u_z"
+    u_w: str = "u_w"
+
+    @classmethod
+    def of(cls, io: IOUnits) -> _Names:
+        if io.is_internal:
+            return cls()
+        return cls(**{f.name: f"{f.name}_int" for f in fields(cls)})
+
+
+@dataclass(frozen=True)
+class _IOCode:
+    """What I/O units add to a block: constants, locals, the scan's first and last statements."""
+
+    constants: list[str]
+    variables: list[str]
+    inputs: list[str]
+    outputs: list[str]
+
+
+#: Factor constants of the I/O units: (ST name, unit attribute, factor attribute, meaning).
+_FACTORS = (
+    ("accel_to_internal", "accel", "to_internal", "z_vs, a_g as read"),
+    ("force_to_internal", "force", "to_internal", "w as read"),
+    ("disp_from_internal", "disp", "from_internal", "u as written"),
+    ("accel_from_internal", "accel", "from_internal", "z_vs of the MIL block as written"),
+)
+
+
+def _io_code(io: IOUnits, names: _Names, inputs, outputs, real: str, lit) -> _IOCode:
+    """Conversions of ``inputs`` and ``outputs`` (ST names) between the I/O and the internal units."""
+    if io.is_internal:
+        return _IOCode([], [], [], [])
+    factor = {"z_vs": "accel", "a_g": "accel", "w": "force", "u": "disp", "u_z": "disp", "u_w": "disp"}
+    constants = ["    (* I/O units: factors between the lab's units and the internal ones *)"]
+    for name, key, attr, meaning in _FACTORS:
+        unit = getattr(io, key)
+        per = (
+            f"{unit.internal} per {unit.unit}"
+            if attr == "to_internal"
+            else f"{unit.unit} per {unit.internal}"
+        )
+        constants.append(f"    {name} : {real} := {lit(getattr(unit, attr))};  (* {per}: {meaning} *)")
+    local = [
+        f"    {getattr(names, n)} : {real};  (* {n} [{getattr(io, factor[n]).internal}] *)" for n in inputs
+    ]
+    local += [
+        f"    {getattr(names, n)} : {real};  (* {n} [{getattr(io, factor[n]).internal}] *)" for n in outputs
+    ]
+    return _IOCode(
+        constants,
+        local,
+        ["(* inputs in the I/O units to the internal units *)"]
+        + [f"{getattr(names, n)} := {n} * {factor[n]}_to_internal;" for n in inputs],
+        ["(* outputs from the internal units to the I/O units *)"]
+        + [f"{n} := {getattr(names, n)} * {factor[n]}_from_internal;" for n in outputs],
+    )
+
+
+def _unit_note(io: IOUnits, key: str) -> str:
+    """`` (* [unit] *)`` after an input or output declared in the I/O units (nothing without them)."""
+    return "" if io.is_internal else f"  (* [{getattr(io, key).unit}] *)"
 
 
 def _channel(tag: str, state: str, inp: str, m: np.ndarray, precision: str, real: str):
@@ -64,7 +142,9 @@ def _channel(tag: str, state: str, inp: str, m: np.ndarray, precision: str, real
     return decls, arrays, out, upd
 
 
-def _controller(controller: DiscreteController, precision: str, real: str, constants=(), variables=()):
+def _controller(
+    controller: DiscreteController, precision: str, real: str, constants=(), variables=(), names=_Names()
+):
     """Declarations, state names and the guarded body of the controller.
 
     ``constants`` and ``variables`` are declaration lines for its VAR CONSTANT
@@ -72,8 +152,8 @@ def _controller(controller: DiscreteController, precision: str, real: str, const
     computes ``u_raw`` (``u_z + u_w``), updates the states and latches an
     overflow; :func:`guards.command` turns ``u_raw`` into the safe ``u``.
     """
-    dz, az, oz, uz = _channel("Az", "X", "z_vs", controller.z.system_matrix(), precision, real)
-    dw, aw, ow, uw = _channel("Aw", "Y", "w", controller.w.system_matrix(), precision, real)
+    dz, az, oz, uz = _channel("Az", "X", names.z_vs, controller.z.system_matrix(), precision, real)
+    dw, aw, ow, uw = _channel("Aw", "Y", names.w, controller.w.system_matrix(), precision, real)
     nmax = max(controller.z.n_states, controller.w.n_states, 1)
     decls = (
         "VAR CONSTANT\n"
@@ -92,9 +172,9 @@ def _controller(controller: DiscreteController, precision: str, real: str, const
     ]
     body = [
         "    (* control input (position command), before the clamp and the rate limit *)",
-        f"    u_z := {oz};",
-        f"    u_w := {ow};",
-        "    u_raw := u_z + u_w;",
+        f"    {names.u_z} := {oz};",
+        f"    {names.u_w} := {ow};",
+        f"    u_raw := {names.u_z} + {names.u_w};",
         "    (* update of the controller states: H_uz with z_vs, H_uw with w *)",
         *[f"    {line}" for line in uz + uw],
         *guards.overflow(["u_raw", *states]),
@@ -107,7 +187,7 @@ def _controller(controller: DiscreteController, precision: str, real: str, const
     return decls, states + compensation, body
 
 
-def _guarded(prefix_lines: list[str], body: list[str], extra_hold=()) -> str:
+def _guarded(prefix_lines: list[str], body: list[str], extra_hold=(), u="u", outputs=()) -> str:
     """The scan: reset, loop-time and input checks, the body when no fault holds, the command."""
     return "\n".join(
         [
@@ -115,15 +195,18 @@ def _guarded(prefix_lines: list[str], body: list[str], extra_hold=()) -> str:
             f"IF (fault AND F_HOLD) = {guards.word(0)} THEN",
             *body,
             "END_IF;",
-            *guards.command(extra_hold),
+            *guards.command(extra_hold, u),
+            *outputs,
         ]
     )
 
 
-def _mil_block(controller, vs, prefix, precision, real, limits) -> str:
+def _mil_block(controller, vs, prefix, precision, real, limits, io: IOUnits) -> str:
     d = definition_of(vs)
     n = d.n_states
     lit = lambda v: st_literal(v, precision)  # noqa: E731
+    names = replace(_Names.of(io), u_z="u_z", u_w="u_w")  # u_z, u_w are locals here
+    io_code = _io_code(io, names, ("a_g", "w"), ("u", "z_vs"), real, lit)
     consts, inter = set(d.kernel_constants), {t for t, _ in d.intermediates}
 
     def name(x: str) -> str:
@@ -133,6 +216,8 @@ def _mil_block(controller, vs, prefix, precision, real, limits) -> str:
             return f"p_{x}"
         if x in inter:
             return f"t_{x}"
+        if x in ("a_g", "w"):
+            return getattr(names, x)
         return f"s_{x}" if x in d.states else x
 
     # the RK3 coefficients are named constants (rk_a21 ... rk_b3), as in the report's program
@@ -173,42 +258,54 @@ def _mil_block(controller, vs, prefix, precision, real, limits) -> str:
             *params,
             *rk,
             *guards.constants(limits, controller.loop_time_s, precision, real, lit),
+            *io_code.constants,
         ],
-        variables=local,
+        variables=local + io_code.variables,
+        names=names,
     )
     x_vs = [f"x_vs[{i}]" for i in range(n)]
     vs_range = (
-        f"({guards.out_of_range(['z_vs'], 'accel_limit')}) OR ({guards.out_of_range(x_vs, 'value_limit')})"
+        f"({guards.out_of_range([names.z_vs], 'accel_limit')}) OR "
+        f"({guards.out_of_range(x_vs, 'value_limit')})"
     )
     body = [
         "    (* target acceleration from the VS state at the start of the loop, then the third-order",
         "       Runge-Kutta step of the VS (Figure 7.9), generated from its definition *)",
-        *[f"    {line}" for line in tick_statements(d, lang, "z_vs")],
+        *[f"    {line}" for line in tick_statements(d, lang, names.z_vs)],
         "    (* the VS target and states are internal values: out of range, they hold *)",
         f"    IF {vs_range} THEN",
         f"        active := active OR {guards.BIT_NAMES[Fault.OVERFLOW]};",
         "        fault := fault OR active;",
         "    ELSE",
-        "        z_safe := z_vs;",
+        f"        z_safe := {names.z_vs};",
         *[f"    {line}" for line in cbody],
         "    END_IF;",
     ]
     scan = _guarded(
         [
             *guards.reset_block([*cstates, *x_vs]),
-            *guards.input_checks([("a_g", "accel_limit"), ("w", "force_limit")]),
+            *io_code.inputs,
+            *guards.input_checks([(names.a_g, "accel_limit"), (names.w, "force_limit")]),
         ],
         body,
-        extra_hold=["z_vs := z_safe;"],
+        extra_hold=[f"{names.z_vs} := z_safe;"],
+        u=names.u,
+        outputs=io_code.outputs,
     )
     return (
         f"\n(* Figures 7.9-7.11 (corrected): {d.kind} virtual system ({d.title}; {d.source}) "
         f"and the controller in one loop.  States: {', '.join(d.states)}. *)\n"
-        f"FUNCTION_BLOCK {prefix}_mil\nVAR_INPUT\n    a_g : {real};\n    w : {real};\n"
-        f"{_SAFETY_INPUTS.format(real=real)}END_VAR\n"
-        f"VAR_OUTPUT\n    u : {real};\n    z_vs : {real};\n{_SAFETY_OUTPUTS}END_VAR\n{cdecls}\n"
-        + scan
-        + "\nEND_FUNCTION_BLOCK\n"
+        f"FUNCTION_BLOCK {prefix}_mil\n{_mil_interface(real, io)}{cdecls}\n" + scan + "\nEND_FUNCTION_BLOCK\n"
+    )
+
+
+def _mil_interface(real: str, io: IOUnits) -> str:
+    """VAR_INPUT and VAR_OUTPUT of the MIL block, each in its I/O unit."""
+    return (
+        f"VAR_INPUT\n    a_g : {real};{_unit_note(io, 'accel')}\n"
+        f"    w : {real};{_unit_note(io, 'force')}\n{_SAFETY_INPUTS.format(real=real)}END_VAR\n"
+        f"VAR_OUTPUT\n    u : {real};{_unit_note(io, 'disp')}\n    z_vs : {real};{_unit_note(io, 'accel')}\n"
+        f"{_SAFETY_OUTPUTS}END_VAR\n"
     )
 
 
@@ -230,6 +327,7 @@ def render_st(
     design_summary: str = "",
     *,
     limits: CommandLimits,
+    io_units: IOUnits | None = None,
 ) -> dict:
     """Generate ``{"<prefix>.st": text}``.
 
@@ -249,12 +347,15 @@ def render_st(
     limits : CommandLimits
         The stroke clamp, rate limit and input ranges of the safety layer
         (:mod:`impedance_mil.implement.st.guards`).
+    io_units : IOUnits, optional
+        The units the blocks read and write (:mod:`impedance_mil.implement.io_units`);
+        default the internal units (no scaling).
 
     Raises
     ------
     ConfigError
-        A prefix that is not an ST identifier, or a coefficient, VS parameter
-        or limit the precision cannot hold.
+        A prefix that is not an ST identifier, or a coefficient, VS parameter,
+        limit or I/O unit factor the precision cannot hold.
     """
     check_st_identifier(prefix)
     precision_dtype(precision)
@@ -262,11 +363,23 @@ def render_st(
     check_renderable("H_uz", controller.z.system_matrix(), precision, COEFFICIENTS)
     check_renderable("H_uw", controller.w.system_matrix(), precision, COEFFICIENTS)
     lit = lambda v: st_literal(v, precision)  # noqa: E731
-    safety = guards.constants(limits, controller.loop_time_s, precision, real, lit)
-    decls, states, body = _controller(controller, precision, real, constants=safety)
+    io = io_units or IOUnits.internal()
+    io.check(precision)
+    names = _Names.of(io)
+    io_code = _io_code(io, names, ("z_vs", "w"), ("u", "u_z", "u_w"), real, lit)
+    safety = guards.constants(limits, controller.loop_time_s, precision, real, lit) + io_code.constants
+    decls, states, body = _controller(
+        controller, precision, real, constants=safety, variables=io_code.variables, names=names
+    )
     scan = _guarded(
-        [*guards.reset_block(states), *guards.input_checks([("z_vs", "accel_limit"), ("w", "force_limit")])],
+        [
+            *guards.reset_block(states),
+            *io_code.inputs,
+            *guards.input_checks([(names.z_vs, "accel_limit"), (names.w, "force_limit")]),
+        ],
         body,
+        u=names.u,
+        outputs=io_code.outputs,
     )
     text = Template(
         resources.files(__package__).joinpath("templates", "program.st.tmpl").read_text()
@@ -278,11 +391,29 @@ def render_st(
         precision=precision,
         real=real,
         design_summary=design_summary or "(not recorded)",
-        safety_header=guards.header(limits, controller.loop_time_s),
+        io_units=_io_paragraph(io, prefix),
+        z_note=_unit_note(io, "accel"),
+        w_note=_unit_note(io, "force"),
+        u_note=_unit_note(io, "disp"),
+        safety_header=guards.header(limits, controller.loop_time_s, io),
         safety_inputs=_SAFETY_INPUTS.format(real=real),
         safety_outputs=_SAFETY_OUTPUTS,
         controller_decls=decls,
         controller_body=scan,
-        mil_block=_mil_block(controller, vs, prefix, precision, real, limits) if vs is not None else "",
+        mil_block=_mil_block(controller, vs, prefix, precision, real, limits, io) if vs is not None else "",
     )
     return {f"{prefix}.st": text}
+
+
+def _io_paragraph(io: IOUnits, prefix: str) -> str:
+    """The program comment's line on units (the I/O units and the internal ones, when they differ)."""
+    internal = "z_vs, a_g [in/s^2]; w [lbf]; u [in]"
+    if io.is_internal:
+        return f"Units: {internal}."
+    a, f, d = io.units
+    return (
+        f"I/O units ({io.spec}): z_vs, a_g [{a.unit}]; w [{f.unit}]; u, u_z, u_w [{d.unit}]\n"
+        f"   (z_vs of {prefix}_mil [{a.unit}]).  Each input times its *_to_internal constant is in\n"
+        f"   the internal units before the guards and the controller: {internal};\n"
+        "   each output is converted back by its *_from_internal constant.  The limits are internal.\n "
+    )

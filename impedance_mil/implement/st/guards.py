@@ -19,6 +19,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ..io_units import IOUnits
 from ..safety import HOLD, CommandLimits, Fault, rendered_limits
 
 #: ST name of each fault bit's constant.
@@ -101,38 +102,46 @@ def overflow(values: Sequence[str]) -> list[str]:
     ]
 
 
-def command(extra_hold: Sequence[str] = ()) -> list[str]:
-    """The safe command ``u`` from ``u_raw``: held during a fault, else clamped and rate limited."""
+def command(extra_hold: Sequence[str] = (), u: str = "u") -> list[str]:
+    """The safe command ``u`` from ``u_raw``: held during a fault, else clamped and rate limited.
+
+    ``u`` names the command [in] (``u_int`` when the block's output is in other I/O units).
+    """
     return [
         "(* the safe command: held during a fault, else clamped to the stroke and rate limited;",
-        "   when neither acts, u is u_raw unchanged *)",
+        f"   when neither acts, {u} is u_raw unchanged *)",
         f"IF (fault AND F_HOLD) = {word(0)} THEN",
-        "    u := u_raw;",
-        "    IF u > stroke THEN",
-        "        u := stroke;",
+        f"    {u} := u_raw;",
+        f"    IF {u} > stroke THEN",
+        f"        {u} := stroke;",
         f"        active := active OR {BIT_NAMES[Fault.CLAMP]};",
-        "    ELSIF u < -stroke THEN",
-        "        u := -stroke;",
+        f"    ELSIF {u} < -stroke THEN",
+        f"        {u} := -stroke;",
         f"        active := active OR {BIT_NAMES[Fault.CLAMP]};",
         "    END_IF;",
-        "    IF u - u_safe > du_max THEN",
-        "        u := u_safe + du_max;",
+        f"    IF {u} - u_safe > du_max THEN",
+        f"        {u} := u_safe + du_max;",
         f"        active := active OR {BIT_NAMES[Fault.RATE]};",
-        "    ELSIF u - u_safe < -du_max THEN",
-        "        u := u_safe - du_max;",
+        f"    ELSIF {u} - u_safe < -du_max THEN",
+        f"        {u} := u_safe - du_max;",
         f"        active := active OR {BIT_NAMES[Fault.RATE]};",
         "    END_IF;",
         "    fault := fault OR active;",
-        "    u_safe := u;",
+        f"    u_safe := {u};",
         "ELSE",
-        "    u := u_safe;",
+        f"    {u} := u_safe;",
         *[f"    {line}" for line in extra_hold],
         "END_IF;",
     ]
 
 
-def header(limits: CommandLimits, loop_time_s: float) -> str:
-    """The program comment's paragraph on the safety layer (limits and where they came from)."""
+def header(limits: CommandLimits, loop_time_s: float, io_units: IOUnits | None = None) -> str:
+    """The program comment's paragraph on the safety layer (limits and where they came from).
+
+    With I/O units other than the internal ones, the input ranges are also stated in them.
+    """
+    io = io_units or IOUnits.internal()
+    in_io = "" if io.is_internal else f"   (in the I/O units: {io.input_ranges(limits)});\n"
     return (
         "   Safety layer (docs/implement.md, Safety layer): inputs loop_time_s (measured loop time [s],\n"
         "   0.0: not checked) and reset (TRUE for one scan after a fault); outputs fault (latched and\n"
@@ -143,7 +152,8 @@ def header(limits: CommandLimits, loop_time_s: float) -> str:
         f"({limits.source('rate')});\n"
         f"   input ranges |z_vs|, |a_g| <= {limits.accel_limit_in_s2:.6g} in/s^2, |w| <= "
         f"{limits.force_limit_lbf:.6g} lbf\n   ({limits.source('inputs')});\n"
-        f"   loop-time tolerance {limits.loop_time_rtol:g} of the designed loop time.\n"
+        + in_io
+        + f"   loop-time tolerance {limits.loop_time_rtol:g} of the designed loop time.\n"
         "   A fault of F_HOLD latches and holds the last safe command until reset; the clamp and\n"
         "   the rate limit act without holding.  When no guard acts, u is what the runtime computes."
     )
