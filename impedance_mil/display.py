@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 from functools import cache
+from typing import Any
 
 from .config import unit_registry
 from .errors import ConfigError
@@ -70,8 +71,8 @@ class DisplayUnit:
     name: str
     factor: float
 
-    def __call__(self, value: float) -> float:
-        """``value`` [internal unit] in this unit."""
+    def __call__(self, value: Any) -> Any:
+        """``value`` [internal unit] in this unit (a number or an array)."""
         return value * self.factor
 
 
@@ -122,8 +123,10 @@ def display_unit(unit: str, system: UnitSystem) -> DisplayUnit:
 def _factor_by_factor(unit: str) -> str:
     """``V/psi`` -> ``V/MPa``: each factor of ``unit`` in its SI display unit."""
     parsed = unit_registry().parse_units(unit.replace("^", "**"))
-    upper, lower = [], []
+    upper: list[str] = []
+    lower: list[str] = []
     for name, power in unit_registry().Quantity(1.0, parsed).unit_items():
+        power = float(power.real) if isinstance(power, complex) else float(power)
         symbol = f"{unit_registry().parse_units(name):~C}"
         symbol = _SI_FACTOR.get(symbol, symbol)
         text = symbol if abs(power) == 1 else f"{symbol}**{abs(power):g}"

@@ -33,6 +33,7 @@ from ..design.filters import FAMILIES, check_order, check_ripple
 from ..design.forms import FORMS, TableModel, VirtualModel
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..design.optimized import OptimizationSettings, design_optimized, with_indices
+from ..display import UnitSystem
 from ..errors import ConfigError
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
@@ -253,7 +254,9 @@ def design(
     result = with_indices(result, params, vm, criteria, warn=False)
     study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []
     written = (
-        [] if plots is None else _write_plots(plots, tm, vm, fcs, scan, form, family, order, criteria, spec)
+        []
+        if plots is None
+        else _write_plots(plots, tm, vm, fcs, scan, form, family, order, criteria, spec, shown)
     )
     if output is not None:
         written.append(save_design(result, output))
@@ -345,6 +348,7 @@ def _write_plots(
     order: int | None,
     criteria: DesignCriteria,
     spec: VSSpec | None,
+    units: UnitSystem,
 ) -> list[Path]:
     """Figure 9.31 rows (the cut-offs, or the feasible range's ends and the design's) and the constraints."""
     ends = [scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]] if scan.feasible_fc_hz else []
@@ -352,7 +356,7 @@ def _write_plots(
     label = f"{form} controller, {spec.name if spec else 'tracking'}"
     return [
         save_figure(
-            plot_design_rows(tm, vm, rows, form=form, family=family, order=order, title=label),
+            plot_design_rows(tm, vm, rows, form=form, family=family, order=order, title=label, units=units),
             plots / "design_fig931.png",
         ),
         save_figure(

@@ -128,6 +128,7 @@ def evaluate(
             loop=arrays.get(MODEL_LOOP),
             prediction=prediction,
             comparison=doc.get("comparison"),
+            units=shown,
         )
     doc = {**doc, "file": str(out), "report": None if page is None else str(page)}
     if as_json:

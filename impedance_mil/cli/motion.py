@@ -22,10 +22,10 @@ from pathlib import Path
 import numpy as np
 import typer
 
-from ..config import parse_overrides
+from ..config import parse_overrides, quantity
 from ..display import UnitSystem, display_unit, format_value
 from ..errors import ConfigError
-from ..lab.labfile import load_lab
+from ..lab.labfile import article_weight, load_lab
 from ..lab.pretest import check_dict
 from ..report.motion_plots import check_figure_path, plot_histories, plot_spectra, save_figure
 from ..signals import (
@@ -160,9 +160,12 @@ def spectrum(
         )
         return
     console.print(f"{motion.name}: {100 * spec.damping:g}%-damped spectrum")
-    console.print(f"{'period [s]':>12} {'PSA [g]':>10} {'SD [in]':>10} {'PSV [in/s]':>11}")
-    for row in zip(spec.period_s, spec.psa_g, spec.sd, spec.sv):
-        console.print(f"{row[0]:12.4g} {row[1]:10.4f} {row[2]:10.4f} {row[3]:11.3f}")
+    sd, sv = display_unit("inch", shown), display_unit("inch / second", shown)
+    console.print(
+        f"{'period [s]':>12} {'PSA [g]':>10} {'SD [' + sd.name + ']':>10} {'PSV [' + sv.name + ']':>11}"
+    )
+    for row in zip(spec.period_s, spec.psa_g, sd(spec.sd), sv(spec.sv)):
+        console.print(f"{row[0]:12.4g} {row[1]:10.4f} {row[2]:10.4g} {row[3]:11.4g}")
     if output is not None:
         console.print(f"wrote {output}")
 
@@ -170,17 +173,30 @@ def spectrum(
 def _limits(
     table: Path | None,
     overrides: list[str] | None,
-    specimen_weight: float,
-    force_limit: float | None,
+    specimen_weight: str | None,
+    force_limit: str | None,
     lab: str | None = None,
 ) -> TableLimits:
-    """The table's capacities; with ``--lab``, its stroke and velocity interlocks where they are tighter."""
-    limits = TableLimits.from_table(
-        table_parameters(table, overrides, lab), specimen_weight=specimen_weight, force_limit=force_limit
+    """The table's capacities; with ``--lab``, its stroke and velocity interlocks where they are tighter
+    and its article's weight unless ``--specimen-weight`` is given."""
+    setup = None if lab is None else load_lab(lab, table=table, overrides=parse_overrides(overrides))
+    if specimen_weight is not None:
+        weight = (
+            0.0 if specimen_weight.strip() == "0" else article_weight(specimen_weight, "--specimen-weight")
+        )
+    elif setup is not None and setup.specimen.article_weight is not None:
+        weight = float(setup.specimen.article_weight)
+    else:
+        weight = 0.0
+    capacity = (
+        None if force_limit is None else quantity("--force-limit", force_limit, "force_pound", "positive")
     )
-    if lab is None:
+    limits = TableLimits.from_table(
+        table_parameters(table, overrides, lab), specimen_weight=weight, force_limit=capacity
+    )
+    if setup is None:
         return limits
-    interlocks = load_lab(lab, table=table, overrides=parse_overrides(overrides)).limits
+    interlocks = setup.limits
     return replace(
         limits,
         stroke_in=min(limits.stroke_in, interlocks.stroke),
@@ -194,9 +210,16 @@ def check(
     table: Path | None = typer.Option(None, "--table", help="Table file (TOML); default report Table 4.1."),
     lab: str | None = LabOpt,
     overrides: list[str] | None = typer.Option(None, "--set", help="Override a table key: KEY=VALUE."),
-    specimen_weight: float = typer.Option(0.0, "--specimen-weight", help="Test-article weight [lbf]."),
-    force_limit: float | None = typer.Option(
-        None, "--force-limit", help="Force capacity [lbf]; default A_p (P_s - P_R). Actuator rating: 5500."
+    specimen_weight: str | None = typer.Option(
+        None,
+        "--specimen-weight",
+        help="Test-article weight, e.g. '2000 lbf' or '1000 kg' (bare number: lbf); default none "
+        "(with --lab: the lab's [specimen] article_weight).",
+    ),
+    force_limit: str | None = typer.Option(
+        None,
+        "--force-limit",
+        help="Force capacity, e.g. '24 kN' (bare number: lbf); default A_p (P_s - P_R). Actuator rating: 5500 lbf.",
     ),
     motion_units: str | None = typer.Option(None, "--motion-units", help=UNITS_HELP),
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),

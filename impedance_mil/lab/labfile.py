@@ -304,7 +304,8 @@ def load_lab(
         base = path.parent
     where = f"{label}: "
     units_given = "units" in data
-    units = unit_system(data.get("units"), f"{where}units") if units_given else UnitSystem.US
+    raw_units: Any = data.get("units")
+    units = unit_system(raw_units, f"{where}units") if units_given else UnitSystem.US
     data = {k: v for k, v in data.items() if k != "units"}
     unknown = sorted(set(data) - set(LAB_SECTIONS))
     if unknown:

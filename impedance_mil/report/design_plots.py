@@ -32,6 +32,7 @@ from ..design import (  # noqa: E402
 )
 from ..design.controller import filter_controller, report_design_choices  # noqa: E402
 from ..design.forms import environment  # noqa: E402
+from ..display import UnitSystem, display_unit  # noqa: E402
 
 #: Frequency axis of the Bode plots [Hz].
 BODE_HZ = np.logspace(-1, np.log10(2000.0), 600)
@@ -53,8 +54,9 @@ def plot_design_rows(
     family: str | None = None,
     order: int | None = None,
     title: str = "",
+    units: UnitSystem = UnitSystem.US,
 ) -> Figure:
-    """Figure 9.31: impedances, controller response, Nyquist plot; one row per cut-off.
+    """Figure 9.31: impedances, controller response, Nyquist plot (in ``units``); one row per cut-off.
 
     Parameters
     ----------
@@ -76,34 +78,37 @@ def plot_design_rows(
     fig, axes = plt.subplots(rows, 3, figsize=(13, 3.2 * rows), squeeze=False)
     H_vs = env.H_zw.frequency_response(f)
     wu_ideal = _wu_ideal(ideal, env, form, f)
+    accel, disp = display_unit("inch / second**2", units), display_unit("inch", units)
+    vel, force = display_unit("inch / second", units), display_unit("force_pound", units)
+    zw, uw, vw = accel.factor / force.factor, disp.factor / force.factor, vel.factor / force.factor
     for k, fc in enumerate(fcs_hz):
         paths = filter_controller(ideal, float(fc), family, order)
         ct = controlled_table(table, env, paths.H_uz, paths.H_uw, form)
         Hc = ct.impedance(f)
         ax = axes[k, 0]
         if not env.H_zw.is_zero:
-            ax.loglog(f, np.abs(H_vs), "r--", label="VS $H_{zw}^{vs}$")
-        ax.loglog(f, np.abs(table.H_zw.frequency_response(f)), color="0.6", lw=0.8, label="bare table")
-        ax.loglog(f, np.abs(Hc), "b-", label="controlled table")
-        ax.set_ylabel("|z/w| [in/s$^2$/lbf]")
+            ax.loglog(f, zw * np.abs(H_vs), "r--", label="VS $H_{zw}^{vs}$")
+        ax.loglog(f, zw * np.abs(table.H_zw.frequency_response(f)), color="0.6", lw=0.8, label="bare table")
+        ax.loglog(f, zw * np.abs(Hc), "b-", label="controlled table")
+        ax.set_ylabel(f"|z/w| [{accel.name} / {force.name}]")
         ax.set_title(f"impedance, $f_c$ = {fc:g} Hz", fontsize=9)
         ax.legend(fontsize=7, loc="lower right")
         ax = axes[k, 1]
-        ax.loglog(f, np.abs(wu_ideal), "k--", label="unfiltered")
-        ax.loglog(f, np.abs(ct.wu_response(f)), "b-", label="filtered")
+        ax.loglog(f, uw * np.abs(wu_ideal), "k--", label="unfiltered")
+        ax.loglog(f, uw * np.abs(ct.wu_response(f)), "b-", label="filtered")
         ax.axvline(fc, color="0.7", lw=0.8)
-        ax.set_ylabel("|u/w| [in/lbf]")
+        ax.set_ylabel(f"|u/w| [{disp.name} / {force.name}]")
         ax.set_title(f"controller $H_{{uw}}^{{controller}}$, $f_c$ = {fc:g} Hz", fontsize=9)
         ax.legend(fontsize=7, loc="upper left")
         ax = axes[k, 2]
         fn = np.logspace(-2, np.log10(table.nyquist_hz), 3000)
-        v = ct.velocity_response(fn)
+        v = vw * ct.velocity_response(fn)
         ax.plot(v.real, v.imag, "b-", lw=1)
         ax.plot(v.real, -v.imag, "b:", lw=0.6)
         ax.axvline(0.0, color="k", lw=0.8)
         ax.axhline(0.0, color="k", lw=0.5)
-        ax.set_xlabel("Re [in/s/lbf]")
-        ax.set_ylabel("Im [in/s/lbf]")
+        ax.set_xlabel(f"Re [{vel.name} / {force.name}]")
+        ax.set_ylabel(f"Im [{vel.name} / {force.name}]")
         ax.set_title(f"Nyquist of $H_{{vw}}^{{st}}$ (Eq 9-2), $f_c$ = {fc:g} Hz", fontsize=9)
     for ax in axes[-1, :2]:
         ax.set_xlabel("frequency [Hz]")

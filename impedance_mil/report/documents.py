@@ -171,7 +171,8 @@ def express(doc: Mapping[str, Any], system: UnitSystem) -> dict[str, Any]:
     """``doc`` (internal units) in ``system``, with ``unit_system`` and ``units`` (see the module)."""
     doc = json_safe(doc)  # arrays as lists, NaN and inf as null, as the JSON will carry them
     units: dict[str, str] = {}
-    given = doc.get("units") if isinstance(doc.get("units"), Mapping) else {}
+    raw = doc.get("units")
+    given: Mapping[str, str] = raw if isinstance(raw, Mapping) else {}
     body = {k: v for k, v in doc.items() if k not in ("units", "unit_system")}
     out = _object(body, "", system, units, given)
     return {**out, "unit_system": system.value, "units": units}
@@ -248,8 +249,8 @@ def _field_unit(key: str, path: str, sibling: str | None) -> tuple[str, str]:
         return "pure", PURE
     if sibling is not None:
         return "sibling", _pint(sibling)
-    unit = key_units().get(key) or next((u for p, u in _KEY_PATTERNS if p.match(key)), None)
-    return ("registry", unit) if unit is not None else ("unknown", UNKNOWN)
+    found = key_units().get(key) or next((u for p, u in _KEY_PATTERNS if p.match(key)), None)
+    return ("registry", found) if found is not None else ("unknown", UNKNOWN)
 
 
 def _suffix(key: str) -> str | None:

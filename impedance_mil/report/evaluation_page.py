@@ -15,15 +15,18 @@ from typing import Any
 
 import numpy as np
 
+from ..display import UnitSystem
 from ..lab.results import RunResult
 from ..lab.runfile import MODEL_LOOP_KEYS, basemat_mass
 from ..signals.motion import integrate_piecewise_linear
+from .documents import express
 from .html import ForceDisplacement, RunView, escape, fmt_number, render_run_html, write_html
 from .runpage import PAGE_METRICS
 
 
-def comparison_table(comparison: Mapping[str, Mapping[str, Any]]) -> str:
-    """``<table>`` of measured, predicted and difference for each metric."""
+def comparison_table(comparison: Mapping[str, Mapping[str, Any]], units: UnitSystem = UnitSystem.US) -> str:
+    """``<table>`` of measured, predicted and difference for each metric (in ``units``)."""
+    comparison = {k: v for k, v in express(comparison, units).items() if k not in ("units", "unit_system")}
     rows = "".join(
         f"<tr><td>{escape(key)}</td><td>{fmt_number(v['measured'])}</td><td>{fmt_number(v['predicted'])}</td>"
         f"<td>{fmt_number(v['difference'])}</td></tr>"
@@ -52,8 +55,9 @@ def write_evaluation_page(
     prediction: RunResult | None = None,
     comparison: Mapping[str, Mapping[str, Any]] | None = None,
     title: str = "",
+    units: UnitSystem = UnitSystem.US,
 ) -> Path:
-    """Render the evaluation of a recording (and a prediction) and write it atomically."""
+    """Render the evaluation of a recording (and a prediction) in ``units`` and write it atomically."""
     metrics = {key: summary[key] for key in PAGE_METRICS if summary.get(key) is not None}
     model = (loop[MODEL_LOOP_KEYS[0]], loop[MODEL_LOOP_KEYS[1]]) if loop else None
     m_vs = basemat_mass(run)
@@ -63,6 +67,7 @@ def write_evaluation_page(
         metrics=metrics,
         m_vs=m_vs,
         model_loop=model,
+        units=units,
     )
     sections = []
     if prediction is not None:
@@ -77,5 +82,5 @@ def write_evaluation_page(
             loops = (*loops, extra)
         view = replace(view, histories=histories, loops=loops)
     if comparison:
-        sections.append(comparison_table(comparison))
+        sections.append(comparison_table(comparison, units))
     return write_html(path, render_run_html(view, sections))

@@ -151,7 +151,7 @@ def test_column_file_with_units(monkeypatch, capsys, tmp_path):
         (["motion", "spectrum", "elcentro", "-o", "/nonexistent/dir/x.png"], "existing folder"),
         (["motion", "spectrum", "elcentro", "-o", "x.unknownformat"], "-o"),
         (["motion", "check", "elcentro", "--set", "nokey=3"], "nokey"),
-        (["motion", "check", "elcentro", "--specimen-weight", "-3"], "specimen_weight"),
+        (["motion", "check", "elcentro", "--specimen-weight", "-3"], "--specimen-weight"),
         (["motion", "info", "fema:farfield:x:a"], "fema"),
     ],
 )

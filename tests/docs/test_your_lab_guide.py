@@ -34,10 +34,21 @@ def test_the_guide_runs_as_written(imil, tmp_path):
         argv = shlex.split(line)
         assert argv[0] == "imil"
         res = imil(*argv[1:], cwd=tmp_path)
-        allowed = (0, 1) if argv[1:3] == ["motion", "check"] else (0,)
+        allowed = (0, 1) if argv[1:3] == ["motion", "check"] else (0, 3) if argv[1] == "track" else (0,)
         assert res.returncode in allowed, (line, res.stderr)
         if argv[1:] == ["lab", "show", "--lab", "my_lab.toml", "--json"]:
             doc = json.loads(res.stdout)
-            assert doc["limits"]["stroke"] == pytest.approx(50 / 25.4, rel=1e-14)
+            assert doc["unit_system"] == "si"  # the lab's units = "si"
+            assert doc["limits"]["stroke"] == pytest.approx(50.0, rel=1e-14)
+            assert doc["units"]["limits.stroke"] == "mm"
             assert doc["sources"]["limits.stroke"] == "file"
+        if argv[1] == "track":
+            doc = json.loads(res.stdout)
+            assert doc["unit_system"] == "si" and doc["units"]["peak_table_disp_mm"] == "mm"
+            if doc["trip"] is not None:  # a trip is the lab's 50 mm stroke, in mm
+                assert doc["trip"]["limit"] == "stroke" and doc["trip"]["unit"] == "mm"
+                assert 50.0 < abs(doc["trip"]["value"]) < 51.3
+        if argv[1:3] == ["table", "info"]:
+            assert re.search(r"^mid_stroke\s+150 mm$", res.stdout, flags=re.M)
     assert (tmp_path / "controller").exists() and (tmp_path / "track.h5").exists()
+    assert "peak_table_disp_mm [mm]" in (tmp_path / "track.html").read_text()

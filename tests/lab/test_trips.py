@@ -43,7 +43,7 @@ def test_codes_and_names_are_those_of_the_run_files():
 def test_a_run_carries_the_cause_and_the_exception_keeps_its_message(tripped):
     trip = tripped.trip
     assert trip.cause is TripCause.STROKE and trip.limit == "stroke" and trip.unit == "in"
-    assert trip.to_dict() == {"limit": "stroke", "time_s": trip.time_s, "value": trip.value}
+    assert trip.to_dict() == {"limit": "stroke", "time_s": trip.time_s, "value": trip.value, "unit": "in"}
     exc = trip.as_exception()
     assert isinstance(exc, LimitTripped) and exc.cause is TripCause.STROKE and exc.value == trip.value
     assert str(exc) == f"limit 'stroke' tripped at t = {trip.time_s:.4f} s: value {trip.value:.6g}"
