@@ -140,6 +140,13 @@ def plan(
     shown = output_units(units)
     spec = _load(campaign, reduced, max_runs, overrides)
     if as_json:
+        # The internal unit of each setting, from its kind's parameters, for the units block.
+        given = {
+            f"runs[{i}].settings.{key}": get_kind(r.kind).params[key].unit
+            for i, r in enumerate(spec.runs)
+            for key in r.settings
+            if key in get_kind(r.kind).params and get_kind(r.kind).params[key].type == "quantity"
+        }
         print_json(
             {
                 "campaign": spec.name,
@@ -148,6 +155,7 @@ def plan(
                     {"run_id": r.run_id, "kind": r.kind, "studies": list(r.studies), "settings": r.settings}
                     for r in spec.runs
                 ],
+                "units": given,
             },
             shown,
         )

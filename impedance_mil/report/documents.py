@@ -34,7 +34,6 @@ from collections.abc import Mapping
 from functools import cache
 from typing import Any
 
-from ..campaign.kinds import KINDS
 from ..display import UnitSystem, display_unit, key_suffix, short_name
 from ..fileio import json_safe
 from ..lab.labfile import LAB_UNITS
@@ -147,10 +146,6 @@ def key_units() -> dict[str, str]:
     units = {key: field.unit for key, field in FIELDS.items()}
     units.update({key: field.unit for key, (_, field) in ALTERNATIVES.items()})
     units.update(VS_UNITS)
-    for kind in KINDS.values():  # campaign parameters (``runs[i].settings.K_p``)
-        for name, param in kind.params.items():
-            if param.type == "quantity":
-                units.setdefault(name, param.unit)
     units.update({"pga": "g0", "pga_original": "g0", "fc": "hertz"})
     units.update(_VS_LOOP_UNITS)
     return units
