@@ -49,6 +49,7 @@ SECTIONS = (
     "motions",
     "vs",
     "frf",
+    "tuning",
 )
 
 #: Values of ``[controller] substeps`` other than a positive integer.
@@ -139,6 +140,22 @@ class FrfSettings:
 
 
 @dataclass(frozen=True)
+class TuningFigures:
+    """The report's printed tuning figures (Section 4.4), shown beside a report table's own.
+
+    ``ke_limit`` [V/in] (stability, K_p = 0, analog), ``kp_limit`` [V/psi]
+    (stability, K_e = 5 V/in), ``breakaway_ke`` [V/in], ``breakaway_kp`` [V/psi],
+    ``chosen_kp`` [V/psi] (the K_p the report runs with).
+    """
+
+    ke_limit: float
+    kp_limit: float
+    breakaway_ke: float
+    breakaway_kp: float
+    chosen_kp: float
+
+
+@dataclass(frozen=True)
 class ReportConfig:
     """The report's setup (see the module docstring); internal units.
 
@@ -148,7 +165,7 @@ class ReportConfig:
         The file it was read from.
     table_file : Path
         Table file of the report's table (Table 4.1).
-    limits, controller, specimen, design, motion, vs_preset, frf
+    limits, controller, specimen, design, motion, vs_preset, frf, tuning
         The sections.
     motions : mapping of str to ReportMotion
         Table 8.1, by name.
@@ -164,6 +181,7 @@ class ReportConfig:
     motions: Mapping[str, ReportMotion]
     vs_preset: str
     frf: FrfSettings
+    tuning: TuningFigures
 
     @property
     def default_motion(self) -> ReportMotion:
@@ -250,6 +268,7 @@ def load_config(path: str | Path) -> ReportConfig:
     motion = _section(data, "motion", ("record", "time_scale"), where)
     vs = _section(data, "vs", ("preset",), where)
     frf = _section(data, "frf", ("peak", "delay", "kp_values"), where)
+    tuning = _section(data, "tuning", TUNING_KEYS, where)
     motions = _motions(data, where)
     record = _text(motion["record"], f"{where}motion.record")
     if record not in motions:
@@ -289,7 +308,17 @@ def load_config(path: str | Path) -> ReportConfig:
             _text(frf["delay"], f"{where}frf.delay"),
             _quantities(frf["kp_values"], f"{where}frf.kp_values", "volt / psi", "positive"),
         ),
+        tuning=TuningFigures(
+            *(
+                quantity(f"{where}tuning.{key}", tuning[key], "volt / inch" if "ke" in key else "volt / psi")
+                for key in TUNING_KEYS
+            )
+        ),
     )
+
+
+#: Keys of ``[tuning]``, in :class:`TuningFigures` order.
+TUNING_KEYS = ("ke_limit", "kp_limit", "breakaway_ke", "breakaway_kp", "chosen_kp")
 
 
 def _quantities(values: Any, key: str, unit: str, check: str = "nonnegative") -> tuple[float, ...]:

@@ -29,6 +29,10 @@ def test_the_reports_values():
     # The table is the Table 4.1 file, and the report's article is read from here.
     assert cfg.table_file == default_table_path() and TEST_ARTICLE_WEIGHT == 3600.0
     assert TableParameters.report_default().loop_time == 0.0005
+    # Section 4.4's printed tuning figures (imil table tune shows them for the report's table).
+    t = cfg.tuning
+    assert (t.ke_limit, t.kp_limit, t.breakaway_ke, t.breakaway_kp) == (6.7, 0.0035, 39.3, 0.0006)
+    assert t.chosen_kp == TableParameters.report_default().Kp == 0.001
 
 
 def test_the_code_reads_the_file(tmp_path):
@@ -52,6 +56,7 @@ def test_the_code_reads_the_file(tmp_path):
         ('record = "GM1"', 'record = "GM9"', "motion.record"),
         ('substeps = "auto"', "substeps = 0", "controller.substeps"),
         ("rsn = 864", "rsn = -1", "motions.GM2.rsn"),
+        ('ke_limit = "6.7 V/in"', 'ke_limit = "6.7 V/psi"', "tuning.ke_limit"),
     ],
 )
 def test_a_bad_file_is_refused_naming_the_key(tmp_path, old, new, key):

@@ -16,7 +16,10 @@ from ..plant import LinearTable, TableParameters
 from ..plant.tuning import pole_summary, tuning_summary
 from ..report import table_plots
 from ..report.motion_plots import check_figure_path
+from ..report_config import report_config
 from .common import LabOpt, UnitsOpt, console, output_units, print_fields, print_json, table_parameters
+
+_REPORT = report_config()
 
 app = typer.Typer(
     help="Shake-table model: parameters, poles, transfer functions, tuning.", no_args_is_help=True
@@ -180,7 +183,9 @@ def tune(
     _say(f"stable with these parameters: {'yes' if data['stable'] else 'NO'}")
     print_fields({k: ("none found" if v is None else v) for k, v in data.items() if k != "stable"}, shown, 34)
     if params == TableParameters.report_default():
+        t = _REPORT.tuning
         _say(
-            "(report Section 4.4: Ke 6.7 V/in, Kp > 0.0035 V/psi, break-away Ke 39.3 / "
-            "Kp 0.0006; model optimum K_p differs from the printed 0.001, see docs/errata.md)"
+            f"(report Section 4.4: Ke {t.ke_limit:g} V/in, Kp > {t.kp_limit:g} V/psi, break-away Ke "
+            f"{t.breakaway_ke:g} / Kp {t.breakaway_kp:g}; model optimum K_p differs from the printed "
+            f"{t.chosen_kp:g}, see docs/errata.md)"
         )

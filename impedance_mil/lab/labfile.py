@@ -46,7 +46,7 @@ REPORT_LAB = "report"
 LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen")
 
 #: Sections of the report's setup file that are not the lab's (read by report_config).
-_EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf")
+_EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf", "tuning")
 
 #: Interlock keys of ``[limits]`` (internal unit, check); None-valued keys of SafetyLimits stay None.
 LIMIT_FIELDS = {
