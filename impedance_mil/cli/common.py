@@ -16,7 +16,7 @@ from ..config import parse_overrides
 from ..display import UnitSystem, human_name, unit_system
 from ..errors import ConfigError
 from ..fileio import json_safe
-from ..lab.labfile import load_lab
+from ..lab.labfile import LabSetup, article_weight, load_lab
 from ..plant import TableParameters, default_table_path
 from ..report.documents import TF_COEFFICIENTS, express
 
@@ -90,6 +90,30 @@ def table_parameters(
             setup.require_one_loop_delay(design_use)
         return setup.table
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
+
+
+def lab_setup(table: Path | None, sets: list[str] | None = None, lab: str | None = None) -> LabSetup:
+    """The lab of ``--lab`` or ``--table`` (default the report's lab) with ``--set`` table overrides."""
+    return load_lab(lab, table=table, overrides=parse_overrides(sets))
+
+
+def weight_option(option: str, text: str | None, setup: LabSetup | None) -> float:
+    """``--specimen-weight``: a weight [lbf] (a force, a mass, ``0``; a bare number is lbf);
+    not given: the article of the lab's ``[specimen]``, or none."""
+    if text is not None:
+        return 0.0 if text.strip() == "0" else article_weight(text, option)
+    if setup is not None and setup.specimen.article_weight is not None:
+        return float(setup.specimen.article_weight)
+    return 0.0
+
+
+#: The ``--specimen-weight`` option of the commands that check a motion against a lab.
+WeightOpt = typer.Option(
+    None,
+    "--specimen-weight",
+    help="Test-article weight, e.g. '2000 lbf' or '1000 kg' (bare number: lbf); default the lab's "
+    "[specimen] article_weight (none without --lab or --table).",
+)
 
 
 #: The ``--lab`` option of every command that takes a table.

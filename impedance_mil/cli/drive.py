@@ -11,8 +11,8 @@ and ``DIR/<kind>.json``, the metadata that ``imil identify --drive`` reads back
   specimen on it (refused unless ``--force``, as ``imil simulate``); the ground
   acceleration a_g the MIL program reads (report Figure 7.9).
 
-The loop rate and the limits come from ``--table`` and the report's interlocks
-(``--lab`` once issue 12 lands).  Exit status: 0; 2 for bad input or a refused
+The loop rate and the limits come from ``--lab`` (default the report's lab) or
+``--table`` (a lab with only a table: its generic interlocks).  Exit status: 0; 2 for bad input or a refused
 motion (one line, nothing written).
 """
 
@@ -27,13 +27,22 @@ from ..config import quantity
 from ..display import UnitSystem
 from ..errors import ConfigError
 from ..lab.pretest import pretest
-from ..lab.setup import SafetyLimits
 from ..report_config import report_config
 from ..signals.drive import FILE_FORMATS, multisine_metadata, write_drive
 from ..signals.multisine import REPORT_PERIOD_S, design_multisine
 from ..signals.sources import scaled_motion
 from ..virtual.files import resolve
-from .common import UnitsOpt, console, output_units, print_json, table_parameters
+from .common import (
+    LabOpt,
+    UnitsOpt,
+    WeightOpt,
+    console,
+    lab_setup,
+    output_units,
+    print_json,
+    table_parameters,
+    weight_option,
+)
 from .motion import PGA_HELP, SOURCE_HELP, TIME_SCALE_HELP, UNITS_HELP
 from .runopts import refuse_or_warn
 from .simulate import check_text, warn
@@ -75,6 +84,7 @@ def _report(drive, folder: Path, as_json: bool, lines: list[str], shown: UnitSys
 @app.command("multisine")
 def multisine(
     table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
     sets: list[str] | None = SetOpt,
     peak: str | None = typer.Option(
         None,
@@ -98,9 +108,9 @@ def multisine(
     units: str | None = UnitsOpt,
 ) -> None:
     """The report's multisine (Section 4.5.2) at the table's loop rate, with the metadata identify reads."""
-    shown = output_units(units, table=table)
+    shown = output_units(units, lab, table)
     folder = _folder(output)
-    params = table_parameters(table, sets)
+    params = table_parameters(table, sets, lab)
     peak_in = quantity("--peak", _REPORT.frf.peak_in if peak is None else peak, "inch", "positive")
     length = REPORT_PERIOD_S if period is None else quantity("--period", period, "second", "positive")
     chosen: dict[str, Any] = {"f_min_hz": f_min, "f_max_hz": f_max, "n_lines": lines, "n_periods": periods}
@@ -146,8 +156,9 @@ def motion(
     time_scale: float | None = typer.Option(None, "--time-scale", help=TIME_SCALE_HELP),
     pga: float | None = typer.Option(None, "--pga", help=PGA_HELP),
     table: Path | None = TableOpt,
+    lab: str | None = LabOpt,
     sets: list[str] | None = SetOpt,
-    specimen_weight: float = typer.Option(0.0, "--specimen-weight", help="Test-article weight [lbf]."),
+    specimen_weight: str | None = WeightOpt,
     vs: str | None = typer.Option(None, "--vs", help="VS of a MIL test: also check the basemat motion."),
     drive_units: str = typer.Option(
         "g", "--drive-units", help="Unit of the written acceleration (g, m/s**2 ...)."
@@ -160,14 +171,15 @@ def motion(
     units: str | None = UnitsOpt,
 ) -> None:
     """A ground motion as played: scaled, resampled to the loop rate, baseline-corrected, checked."""
-    shown = output_units(units, table=table)
+    shown = output_units(units, lab, table)
     folder = _folder(output)
-    params = table_parameters(table, sets)
+    setup = lab_setup(table, sets, lab)
+    params, interlocks = setup.table, setup.limits
+    weight = weight_option("--specimen-weight", specimen_weight, setup)
     record = scaled_motion(source, motion_units, time_scale, pga, "SOURCE", "--motion-units")
     played = record.resampled(params.loop_time).baseline_corrected()
-    interlocks = SafetyLimits(stroke=_REPORT.limits.stroke_in, velocity=_REPORT.limits.velocity_in_s)
-    spec = None if vs is None else resolve(vs)
-    pre = pretest(params, specimen_weight, played, interlocks, None if spec is None else spec.vs)
+    spec = None if vs is None else resolve(vs, article_weight_lbf=weight or None)
+    pre = pretest(params, weight, played, interlocks, None if spec is None else spec.vs)
     warnings = refuse_or_warn(pre.findings(played, time_scale or 1.0), force)
     warn(warnings)
     drive = write_drive(

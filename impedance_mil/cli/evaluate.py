@@ -31,7 +31,7 @@ from ..report.evaluation_page import write_evaluation_page
 from ..report_config import report_config
 from ..virtual import presets
 from ..virtual.files import resolve
-from .common import UnitsOpt, console, output_units, print_json, table_parameters
+from .common import LabOpt, UnitsOpt, console, lab_setup, output_units, print_json
 from .recording import AllowClippedOpt, ChannelOpt, ChannelsFileOpt, RateOpt, channel_map
 from .runopts import metric_lines, output_path
 
@@ -78,6 +78,7 @@ def evaluate(
     table: Path | None = typer.Option(
         None, "--table", help="Table file: its loop time is the recording's rate (default the report's)."
     ),
+    lab: str | None = LabOpt,
     precision: str | None = typer.Option(
         None,
         "--precision",
@@ -94,18 +95,20 @@ def evaluate(
     units: str | None = UnitsOpt,
 ) -> None:
     """Judge a recorded tracking or MIL test with the metrics, run file and page of a virtual run."""
-    shown = output_units(units, table=table)
+    shown = output_units(units, lab, table)
     out = output_path("-o", output, overwrite, RUN_FILE_SUFFIXES)
     page = output_path("--report", report, overwrite)
     if page is not None and page.resolve() == out.resolve():
         raise ConfigError("--report", "a path other than the run file (-o)", str(report))
-    params = table_parameters(table)
+    setup = lab_setup(table, None, lab)  # the table, and the sensors clipping is judged against
+    params = setup.table
     cmap = channel_map(channels, channels_file, rate)
     rec = read_lab_recording(
         recording,
         cmap,
         expected_rate_hz=1.0 / params.loop_time,
         rate_source=f"the table's loop time ({params.loop_time:g} s)",
+        sensors=setup.sensors.suite,
         allow_clipped=allow_clipped,
     )
     precision = precision or _REPORT.controller.precision

@@ -32,7 +32,15 @@ from ..report.documents import express
 from ..report.identification_plots import save_identification_plot
 from ..report.motion_plots import check_figure_path
 from ..signals.drive import check_recording, read_drive
-from .common import UnitsOpt, console, output_units, positive_numbers, print_json, table_parameters
+from .common import (
+    LabOpt,
+    UnitsOpt,
+    console,
+    lab_setup,
+    output_units,
+    positive_numbers,
+    print_json,
+)
 from .recording import AllowClippedOpt, ChannelOpt, ChannelsFileOpt, RateOpt, channel_map
 from .runopts import output_path
 
@@ -98,6 +106,7 @@ def identify(
     table: Path | None = typer.Option(
         None, "--table", help="Table file: known parameters and starting values (default the report's)."
     ),
+    lab: str | None = LabOpt,
     response: str = typer.Option(
         "z", "--response", help="Response identified against u: " + ", ".join(OUTPUT_ZEROS)
     ),
@@ -123,7 +132,7 @@ def identify(
     units: str | None = UnitsOpt,
 ) -> None:
     """Identify the table (physical and rational models, with confidence intervals) from a recording."""
-    shown = output_units(units, table=table)
+    shown = output_units(units, lab, table)
     out = output_path("-o", output, overwrite)
     if plot is not None:
         check_figure_path(plot, "--plot")
@@ -133,7 +142,8 @@ def identify(
     low, high = positive_numbers("--band", band, "LOW,HIGH in Hz", "two increasing frequencies in Hz", 2)
     if not low < high:
         raise ConfigError("--band", "LOW < HIGH", band)
-    params = table_parameters(table)
+    setup = lab_setup(table, None, lab)  # the table, and the sensors clipping is judged against
+    params = setup.table
     drv = read_drive(drive) if drive is not None else None
     expected = drv.sample_rate_hz if drv is not None else 1.0 / params.loop_time
     source = (
@@ -141,7 +151,12 @@ def identify(
     )
     cmap = channel_map(channels, channels_file, rate)
     rec = read_lab_recording(
-        recording, cmap, expected_rate_hz=expected, rate_source=source, allow_clipped=allow_clipped
+        recording,
+        cmap,
+        expected_rate_hz=expected,
+        rate_source=source,
+        sensors=setup.sensors.suite,
+        allow_clipped=allow_clipped,
     )
     if drv is not None:
         check_recording(drv, str(drive), rec.path, rec.sample_rate_hz, rec.channels.get("u"))

@@ -22,10 +22,9 @@ from pathlib import Path
 import numpy as np
 import typer
 
-from ..config import parse_overrides, quantity
+from ..config import quantity
 from ..display import UnitSystem, display_unit, format_value
 from ..errors import ConfigError
-from ..lab.labfile import article_weight, load_lab
 from ..lab.pretest import check_dict
 from ..report.motion_plots import check_figure_path, plot_histories, plot_spectra, save_figure
 from ..signals import (
@@ -40,7 +39,17 @@ from ..signals import (
 )
 from ..signals.sources import motion_summary, scaled_motion
 from ..units import G0
-from .common import LabOpt, UnitsOpt, console, output_units, positive_numbers, print_json, table_parameters
+from .common import (
+    LabOpt,
+    UnitsOpt,
+    console,
+    lab_setup,
+    output_units,
+    positive_numbers,
+    print_json,
+    table_parameters,
+    weight_option,
+)
 
 app = typer.Typer(
     help="Ground motions: info, response spectrum, table feasibility check.", no_args_is_help=True
@@ -179,22 +188,15 @@ def _limits(
 ) -> TableLimits:
     """The table's capacities; with ``--lab``, its stroke and velocity interlocks where they are tighter
     and its article's weight unless ``--specimen-weight`` is given."""
-    setup = None if lab is None else load_lab(lab, table=table, overrides=parse_overrides(overrides))
-    if specimen_weight is not None:
-        weight = (
-            0.0 if specimen_weight.strip() == "0" else article_weight(specimen_weight, "--specimen-weight")
-        )
-    elif setup is not None and setup.specimen.article_weight is not None:
-        weight = float(setup.specimen.article_weight)
-    else:
-        weight = 0.0
+    setup = None if lab is None and table is None else lab_setup(table, overrides, lab)
+    weight = weight_option("--specimen-weight", specimen_weight, setup)
     capacity = (
         None if force_limit is None else quantity("--force-limit", force_limit, "force_pound", "positive")
     )
     limits = TableLimits.from_table(
         table_parameters(table, overrides, lab), specimen_weight=weight, force_limit=capacity
     )
-    if setup is None:
+    if setup is None or lab is None:
         return limits
     interlocks = setup.limits
     return replace(

@@ -96,6 +96,9 @@ _PATH_PATTERNS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"(^|\.)poles\.(real|imag)$"), "radian / second"),
 )
 
+#: The interlocks of a run or a drive file (``provenance.interlocks.stroke``): the lab file's limits.
+_INTERLOCK_RE = re.compile(r"(?:^|\.)interlocks\.(\w+)$")
+
 #: Keys whose unit a pattern of the key names (the gains of a table: ``Ke_limit``, ``recommended_Kp``).
 _KEY_PATTERNS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"^(Ke(_.*)?|.*_Ke)$"), "volt / inch"),
@@ -135,8 +138,8 @@ DIMENSIONLESS = frozenset(
 
 #: Key patterns of pure numbers (``spectral_error_0p25_15hz``, ``n_samples``, ``coherence_min``).
 _DIMENSIONLESS_RE = re.compile(
-    r"^(n_.*|npts|.*_count|.*bits|order_.*|.*_order|.*time_scale|.*_oil_damping|"
-    r".*(error|ratio|fraction|factor|coherence|misfit).*|spectral_error_.*)$"
+    r"^(n_.*|npts|.*_count|.*bits|order_.*|.*_order|.*time_scale|.*_oil_damping|spectral_error_.*|"
+    r"(.*_)?(error|errors|ratio|fraction|factor|coherence|misfit)(_.*)?)$"
 )
 
 
@@ -233,6 +236,9 @@ def _field_unit(key: str, path: str, sibling: str | None) -> tuple[str, str]:
     for pattern, unit in _PATH_PATTERNS:
         if pattern.search(path):
             return "path", unit
+    interlock = _INTERLOCK_RE.search(path)  # a run's or a drive's interlocks, named as the lab file's limits
+    if interlock is not None and f"limits.{interlock.group(1)}" in PATH_UNITS:
+        return "path", PATH_UNITS[f"limits.{interlock.group(1)}"]
     if "." in key:  # a configuration key as a value's name (``from_report``: ``limits.stroke``)
         if key in PATH_UNITS:
             return "path", PATH_UNITS[key]

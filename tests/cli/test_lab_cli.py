@@ -10,7 +10,9 @@ import json
 
 import pytest
 
+from impedance_mil.lab.labfile import load_lab
 from impedance_mil.plant import default_table_path
+from impedance_mil.units import G0
 
 TABLE = default_table_path()
 
@@ -120,3 +122,25 @@ def test_every_table_command_takes_the_lab(imil, lab_file, tmp_path, argv):
     extra = ("-o", tmp_path / "d.json") if argv == ("design",) else ()
     res = imil(*argv, "--lab", lab_file, *extra)
     assert res.returncode in (0, 1), res.stderr  # motion check exits 1 when the motion does not fit
+
+
+def test_drive_motion_checks_against_the_labs_interlocks_and_article(imil, lab_file, tmp_path):
+    # The drive file's pre-test check is the lab's: its 50 mm stroke interlock, its 1000 kg article
+    # (1000 kg weighs 1000 / 0.45359237 = 2204.62 lbf), not the report's 3 in and 3600 lbf.
+    res = imil(
+        "drive", "motion", "elcentro", "--lab", lab_file, "--pga", "0.3", "--force", "-o", tmp_path, "--json"
+    )
+    assert res.returncode == 0, res.stderr
+    doc = json.loads(res.stdout)
+    assert doc["provenance"]["interlocks"]["stroke"] == pytest.approx(50 / 25.4, rel=1e-14)
+    assert doc["units"]["provenance.interlocks.stroke"] == "in"
+    table_weight = load_lab(lab_file).table.mass * G0
+    moving = doc["motion"]["pretest"]["moving_weight_lbf"]
+    assert moving == pytest.approx(table_weight + 1000 / 0.45359237, rel=1e-12)
+
+
+@pytest.mark.parametrize("command", ["identify", "evaluate"])
+def test_identify_and_evaluate_take_the_lab(imil, lab_file, command):
+    # The lab's table sets the expected sample rate; a missing recording is refused after the lab is read.
+    res = imil(command, "missing.csv", "--lab", lab_file, "-o", "x.h5")
+    assert res.returncode == 2 and "missing.csv" in res.stderr and "--lab" not in res.stderr
