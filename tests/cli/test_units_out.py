@@ -162,3 +162,27 @@ def test_a_lab_file_with_an_unknown_unit_system_is_refused(imil, tmp_path):
     res = imil("lab", "check", path)
     assert res.returncode == 2
     assert "bad.toml: units: expected us or si" in res.stderr and res.stderr.count("\n") == 1
+
+
+@pytest.mark.parametrize(
+    "limit, text, unit, threshold",
+    [
+        ("velocity", '"100 mm/s"', "mm/s", 100.0),
+        ("acceleration", '"0.1 g0"', "m/s**2", 0.1 * 9.80665),
+        ("actuator_force", '"1 kN"', "kN", 1.0),
+        ("pressure", '"10 bar"', "MPa", 1.0),
+        ("valve_current", '"1 mA"', "mA", 1.0),
+    ],
+)
+def test_each_limit_of_the_lab_trips_the_run_in_the_labs_units(imil, tmp_path, limit, text, unit, threshold):
+    # One limit of the lab set low (the others generic); the run stops on it, and the JSON gives
+    # the offending value in SI, beyond the limit as the lab file states it.
+    lab = tmp_path / "lab.toml"
+    lab.write_text(SI_LAB.replace('stroke = "50 mm"\nvelocity = "1 m/s"', f"{limit} = {text}"))
+    res = imil(
+        "track", "--lab", lab, "--duration", "3", "--pga", "0.3", "--force", "--json", "-o", tmp_path / "r.h5"
+    )
+    assert res.returncode == 3, res.stderr
+    trip = json.loads(res.stdout)["trip"]
+    assert (trip["limit"], trip["unit"]) == (limit, unit)
+    assert abs(trip["value"]) > threshold
