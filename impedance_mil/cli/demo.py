@@ -27,12 +27,14 @@ from pathlib import Path
 
 import typer
 
+from ..display import UnitSystem, format_value, human_name
 from ..fileio import atomic_write_text
 from ..lab.choices import Choices, mil_test
 from ..plant import TableParameters
 from ..plant.tuning import pole_summary
 from ..report import table_plots
-from .common import console
+from ..report.documents import express
+from .common import UnitsOpt, console, output_units
 from .runopts import CHOICE_OPTIONS, EXIT_INTERRUPTED, err_console, output_path, percent
 from .simulate import Outcome, check, perform, print_outcome, warn
 
@@ -48,10 +50,14 @@ def _say(text: str = "") -> None:
     console.print(text, markup=False)
 
 
-def table_summary(p: TableParameters) -> list[str]:
-    """Parameters (internal units) and closed-loop poles for three delay models (Section 4.4)."""
-    lines = ["Shake table of the report (Table 4.1, d = 1e5 per docs/errata.md), internal units:"]
-    lines += [f"  {key:22s} {value}" for key, value in p.to_dict().items()]
+def table_summary(p: TableParameters, units: UnitSystem = UnitSystem.US) -> list[str]:
+    """Parameters (in ``units``) and closed-loop poles for three delay models (Section 4.4)."""
+    shown = express(p.to_dict(), units)
+    lines = [f"Shake table of the report (Table 4.1, d = 1e5 per docs/errata.md), in {units.value} units:"]
+    for key in p.to_dict():
+        value, unit = shown[key], human_name(shown["units"].get(key, ""))
+        text = f"{value:.6g}" if isinstance(value, float) else str(value)
+        lines.append(f"  {key:22s} {text}" + ("" if unit in ("", "1") else f" {unit}"))
     for delay in ("none", "first-order", "sampled"):
         stable, rows = pole_summary(p, delay)
         lines.append(f"closed-loop poles, delay model '{delay}' (stable: {'yes' if stable else 'NO'}):")
@@ -63,20 +69,20 @@ def table_summary(p: TableParameters) -> list[str]:
     return lines
 
 
-def table_section(p: TableParameters, out: Path) -> list[Path]:
+def table_section(p: TableParameters, out: Path, units: UnitSystem = UnitSystem.US) -> list[Path]:
     """Print the table summary and write it with the Bode and root-locus plots; return the files."""
-    lines = table_summary(p)
+    lines = table_summary(p, units)
     for line in lines:
         _say(line)
     summary = out / "table_summary.txt"
     atomic_write_text(summary, "\n".join(lines) + "\n")
-    written = [summary, table_plots.save_bode(p, out / "table_bode.png")]
+    written = [summary, table_plots.save_bode(p, out / "table_bode.png", units=units)]
     for name in ("Ke", "Kp", "loop_time"):
         written.append(table_plots.save_root_locus(p, name, out / f"table_rlocus_{name}.png"))
     return written
 
 
-def closing_lines(outcome: Outcome) -> list[str]:
+def closing_lines(outcome: Outcome, units: UnitSystem = UnitSystem.US) -> list[str]:
     """What the default test showed, and what to run next."""
     doc = outcome.document
     lines = [
@@ -94,23 +100,23 @@ def closing_lines(outcome: Outcome) -> list[str]:
         pga = math.floor(10.0 * fit_pga) / 10.0  # the tenth of a g below the fit
         lines.append(
             f"The report ran this test on its table (Figure 9-5).  In the virtual lab the {doc['vs']} basemat, "
-            f"which the table must follow, moves {stroke.peak:.2f} in: more than the {stroke.limit:g} in "
-            f"stroke interlock.  A run that fits:"
+            f"which the table must follow, moves {format_value(stroke.peak, 'inch', units)}: more than the "
+            f"{format_value(stroke.limit, 'inch', units)} stroke interlock.  A run that fits:"
         )
         lines.append(f"  .venv/bin/imil simulate --pga {pga:g} -o sd2-{pga:g}g.h5 --report sd2-{pga:g}g.html")
     return lines
 
 
-def default_test(test, out: Path) -> Outcome:
+def default_test(test, out: Path, units: UnitSystem = UnitSystem.US) -> Outcome:
     """Check, run and write the default MIL test into ``out`` (run.h5, run.html); print it."""
     run_file = output_path("--out", out / "run.h5", overwrite=True)
     page = output_path("--out", out / "run.html", overwrite=True)
     outcome = Outcome(test)
     check(outcome, force=False)
     warn(outcome.warnings)
-    perform(outcome, run_file, page, quiet=False)
-    print_outcome(outcome)
-    for line in closing_lines(outcome):
+    perform(outcome, run_file, page, quiet=False, units=units)
+    print_outcome(outcome, units)
+    for line in closing_lines(outcome, units):
         _say(line)
     return outcome
 
@@ -120,16 +126,18 @@ def demo(
     quick: bool = typer.Option(
         False, "--quick", help=f"Run only the first {QUICK_DURATION_S:g} s of the motion (for tests)."
     ),
+    units: str | None = UnitsOpt,
 ) -> None:
     """The report's default configuration end to end: table model, MIL controller, virtual test, HTML report."""
     start = time.perf_counter()
+    shown = output_units(units)
     test = mil_test(
         Choices(pga_g=DEMO_PGA_G, duration=QUICK_DURATION_S if quick else None, keys=CHOICE_OPTIONS)
     )
     out.mkdir(parents=True, exist_ok=True)
     try:
         _say("== 1. The shake table (report Section 4, Table 4.1) ==")
-        written = table_section(test.table, out)
+        written = table_section(test.table, out, shown)
         _say("")
         _say(
             f"== 2-3. The default MIL controller and test (Sections 6, 9.3): {test.vs_name}, "
@@ -137,7 +145,7 @@ def demo(
             f"(Table 8.1's 0.8 g exceeds the stroke with SD2: docs/errata.md), "
             f"{test.specimen.label}, feedback {test.controller.feedback.value} =="
         )
-        outcome = default_test(test, out)
+        outcome = default_test(test, out, shown)
     except KeyboardInterrupt:
         err_console.print(f"imil: interrupted; the files completed so far are in {out}", markup=False)
         raise typer.Exit(EXIT_INTERRUPTED) from None
