@@ -63,8 +63,28 @@ DEFAULT_PADE_ORDER = 6
 MAX_PADE_ORDER = 10
 
 
-def pade_state_space(tau: float, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """State space ``(Ad, bd, cd, dd)`` of the Pade approximation of ``e^{-s tau}``, tau [s].
+@dataclass(frozen=True, eq=False)
+class DelayApproximation:
+    """A SISO rational approximation of a delay ``e^{-s tau}``: ``q' = A q + b y``, output ``c q + d y``.
+
+    Attributes
+    ----------
+    A : ndarray, shape (n, n)
+        State matrix [1/s].
+    b, c : ndarray, shape (n,)
+        Input and output vectors (``b`` [1/s]).
+    d : float
+        Feedthrough [-].
+    """
+
+    A: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    d: float
+
+
+def pade_state_space(tau: float, order: int) -> DelayApproximation:
+    """The Pade approximation of order ``order`` of ``e^{-s tau}``, tau [s].
 
     Realized for tau = 1 and balanced, then scaled by ``1/tau`` (``s tau`` is
     the natural variable), so that short delays do not give huge coefficients.
@@ -72,7 +92,14 @@ def pade_state_space(tau: float, order: int) -> tuple[np.ndarray, np.ndarray, np
     unit = StateSpace.from_polynomials(*control.pade(1.0, order))
     A1, T = scipy.linalg.matrix_balance(unit.A, permute=False)
     scaling = np.diag(T)
-    return A1 / tau, unit.B[:, 0] / scaling / tau, unit.C[0] * scaling, float(unit.D[0, 0])
+    return DelayApproximation(
+        A1 / tau, unit.B[:, 0] / scaling / tau, unit.C[0] * scaling, float(unit.D[0, 0])
+    )
+
+
+def first_order_lag(tau: float) -> DelayApproximation:
+    """``1 / (1 + s tau)``, the first-order approximation of ``e^{-s tau}`` that needs no derivative, tau [s]."""
+    return DelayApproximation(np.array([[-1.0 / tau]]), np.array([1.0 / tau]), np.array([1.0]), 0.0)
 
 
 def closed_loop_state_space(
@@ -119,7 +146,8 @@ def closed_loop_state_space(
             or not 1 <= pade_order <= MAX_PADE_ORDER
         ):
             raise ConfigError("pade_order", f"an integer from 1 to {MAX_PADE_ORDER}", pade_order)
-        Ad, bd, cd, dd = pade_state_space(loops * tau, pade_order)
+        fb = pade_state_space(loops * tau, pade_order)
+        Ad, bd, cd, dd = fb.A, fb.b, fb.c, fb.d
         q = Ad.shape[0]
         A_cl = np.block(
             [
@@ -139,20 +167,13 @@ def closed_loop_state_space(
     raise ConfigError("delay", "one of none, first-order, pade", delay)
 
 
-def first_order_lag(tau: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """State space ``(Ad, bd, cd, dd)`` of ``1 / (1 + s tau)``, the first-order approximation of ``e^{-s tau}``, tau [s]."""
-    return np.array([[-1.0 / tau]]), np.array([1.0 / tau]), np.array([1.0]), 0.0
-
-
-def command_delayed(
-    loop: TableStateSpace, delay: tuple[np.ndarray, np.ndarray, np.ndarray, float]
-) -> TableStateSpace:
-    """``loop`` with its command u [in] first passed through ``delay``, a SISO ``(Ad, bd, cd, dd)``.
+def command_delayed(loop: TableStateSpace, delay: DelayApproximation) -> TableStateSpace:
+    """``loop`` with its command u [in] first passed through ``delay``.
 
     The delay's states follow the loop's, named ``command_delay_i``; the
     force w [lbf] does not pass through it.
     """
-    Ad, bd, cd, dd = delay
+    Ad, bd, cd, dd = delay.A, delay.b, delay.c, delay.d
     n, q = loop.A.shape[0], Ad.shape[0]
     A = np.block([[loop.A, np.outer(loop.B_u, cd)], [np.zeros((q, n)), Ad]])
     C = {name: np.concatenate([row, loop.D[name][0] * cd]) for name, row in loop.C.items()}
@@ -263,8 +284,10 @@ class LinearTable:
                 ", ".join(f"{abs(q) / (2 * np.pi):.1f} Hz (real part {q.real:+.2f} rad/s)" for q in bad)
                 or "|z| >= 1"
             )
+            loops = self.params.output_delay_loops
+            output_delay = f", output_delay={loops} loops" if loops > 1 else ""
             raise UnstableSystemError(
                 f"the table loop is unstable (Ke={self.params.Ke:g} V/in, Kp={self.params.Kp:g} "
-                f"V/psi, loop_time={self.params.loop_time:g} s, delay={self.delay}): {text}"
+                f"V/psi, loop_time={self.params.loop_time:g} s{output_delay}, delay={self.delay}): {text}"
             )
         return self

@@ -17,7 +17,7 @@ applies the command computed at loop k over loop k + N - 1, as the virtual
 lab's ring buffer does (:func:`impedance_mil.lab.kernels.delayed_output`):
 the valve receives ``u_v(k - N + 1)``, the command N - 1 loops and the
 feedback N loops late.  The model carries the N - 1 commands computed and
-not yet applied as N - 1 more states ``delay_j(k) = u_v(k - j)`` [V]; for
+not yet applied as N - 1 more states ``pending_j(k) = u_v(k - j)`` [V]; for
 N = 1 it is the one-memory model above.
 
 The force w is treated as held over each loop (the model describes the
@@ -68,8 +68,8 @@ class SampledTable(TableChannels):
     ----------
     system : StateSpace
         Discrete, sample time the loop time T [s]; states ``[x, v, dp,
-        spool, spool_rate, memory, delay_1 ... delay_{N-1}]`` (``memory``:
-        the feedback saved in the previous loop [V]; ``delay_j``: the valve
+        spool, spool_rate, memory, pending_1 ... pending_{N-1}]`` (``memory``:
+        the feedback saved in the previous loop [V]; ``pending_j``: the valve
         command computed j loops earlier [V], N the output delay); inputs the command u [in] and the force w [lbf];
         outputs ``"z"``, ``"x"``, ``"v"``, ``"dp"``.
     """
@@ -80,7 +80,7 @@ class SampledTable(TableChannels):
 
         The loop is delayed as the virtual lab delays it: the feedback by one
         loop (the ``memory`` state), the whole valve command by
-        ``p.output_delay_loops - 1`` more (the ``delay_j`` states).
+        ``p.output_delay_loops - 1`` more (the ``pending_j`` states).
         """
         if not p.loop_time > 0:
             raise ConfigError("loop_time", "a positive loop time for the sampled-data model", p.loop_time)
@@ -98,8 +98,8 @@ class SampledTable(TableChannels):
             A[:n, memory] = -p.Kv * g_i
             B[:n, 0] = p.Kv * p.Ke * g_i
         else:
-            # delay_1(k+1) = u_v(k) = K_e u(k) - m(k); delay_j(k+1) = delay_{j-1}(k);
-            # the valve receives delay_{N-1}(k)
+            # pending_1(k+1) = u_v(k) = K_e u(k) - m(k); pending_j(k+1) = pending_{j-1}(k);
+            # the valve receives pending_{N-1}(k)
             first, last = n + 1, n + extra
             A[first, memory] = -1.0
             B[first, 0] = p.Ke
@@ -107,7 +107,7 @@ class SampledTable(TableChannels):
                 A[j, j - 1] = 1.0
             A[:n, last] = p.Kv * g_i
         C = np.column_stack([ol.C, np.zeros((ol.n_outputs, 1 + extra))])
-        states = PLANT_STATES + ("memory",) + tuple(f"delay_{j + 1}" for j in range(extra))
+        states = PLANT_STATES + ("memory",) + tuple(f"pending_{j + 1}" for j in range(extra))
         return cls(StateSpace(A, B, C, ol.D, p.loop_time, INPUTS, ol.outputs, states))
 
     @property

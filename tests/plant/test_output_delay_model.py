@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from impedance_mil.errors import ConfigError
+from impedance_mil.errors import ConfigError, UnstableSystemError
 from impedance_mil.lab.loop import simulate
 from impedance_mil.lab.setup import ideal_sensors
 from impedance_mil.plant import LinearTable, TableParameters
@@ -140,7 +140,11 @@ def test_the_first_order_model_approximates_both_delays_at_low_frequency(params,
 
 def test_the_delay_adds_states_by_treatment(params):
     p = params.replace(output_delay_loops=3)
-    assert LinearTable(p, delay="sampled").sampled().system.states[-3:] == ("memory", "delay_1", "delay_2")
+    assert LinearTable(p, delay="sampled").sampled().system.states[-3:] == (
+        "memory",
+        "pending_1",
+        "pending_2",
+    )
     assert LinearTable(p, delay="first-order").state_space().states[-1] == "command_delay_1"
     assert len(LinearTable(p, delay="pade", pade_order=4).state_space().states) == 5 + 4 + 4
     # the analog controller has no loop and no delay
@@ -157,3 +161,13 @@ def test_an_output_delay_that_is_not_a_whole_number_of_loops_is_refused(params, 
 def test_the_output_delay_is_not_a_key_of_the_table(params):
     # A table file's keys (FIELDS): the delay is the controller's, a lab's [controller] output_delay.
     assert "output_delay_loops" not in params.replace(output_delay_loops=2).to_dict()
+
+
+def test_a_loop_stable_with_one_loop_of_delay_is_unstable_with_two(params):
+    # Measured: K_p = 0.002 V/psi (twice the report's) keeps the loop stable with N = 1 and
+    # makes it unstable with N = 2, in the sampled and the first-order models alike.
+    p = params.replace(Kp=0.002)
+    for delay in ("sampled", "first-order"):
+        assert LinearTable(p, delay=delay).is_stable()
+        with pytest.raises(UnstableSystemError, match="output_delay=2 loops"):
+            LinearTable(p.replace(output_delay_loops=2), delay=delay).require_stable()
