@@ -75,20 +75,14 @@ def table_parameters(
     table: Path | None,
     sets: list[str] | None = None,
     lab: str | None = None,
-    *,
-    design_use: str | None = None,
 ) -> TableParameters:
     """``--table`` or the table of ``--lab`` (default the report's Table 4.1) with ``--set`` overrides.
 
-    Errors name the key or file; a lab's controller loop time and valve command apply to its table.
-    ``design_use`` (e.g. ``"imil design"``): a command that designs on the linear table model,
-    which refuses a lab's output delay of more than one loop.
+    Errors name the key or file; a lab's controller loop time, output delay and valve command
+    apply to its table.
     """
     if lab is not None or table is not None:
-        setup = load_lab(lab, table=table, overrides=parse_overrides(sets))
-        if design_use is not None:
-            setup.require_one_loop_delay(design_use)
-        return setup.table
+        return load_lab(lab, table=table, overrides=parse_overrides(sets)).table
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
 
 

@@ -202,7 +202,7 @@ def design(
     with option_errors(CRITERIA_OPTIONS):
         criteria = DesignCriteria(**{k: v for k, v in criteria_given.items() if v is not None})
     ratios = _parse_list("--mass-ratios", mass_ratios)
-    params = table_parameters(table, sets, lab, design_use="imil design")
+    params = table_parameters(table, sets, lab)
     tm = table_model(params)
     spec = None
     if vs is not None and form != "tracking":

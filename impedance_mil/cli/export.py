@@ -51,7 +51,7 @@ def _design(design_file, table, vs, fc, lab=None):
     spec = resolve(vs) if vs else None
     vm = virtual_model(spec.vs, spec.name) if spec is not None else None
     return design_controller(
-        table_model(table_parameters(table, None, lab, design_use="imil export")),
+        table_model(table_parameters(table, None, lab)),
         vm,
         fc_hz=fc,
         emit_warnings=False,

@@ -21,7 +21,8 @@ def table_model(params: TableParameters, delay: str = "first-order") -> TableMod
     Parameters
     ----------
     params : TableParameters
-        Table parameters (Table 4.1).
+        Table parameters (Table 4.1), with the controller's output delay
+        ``output_delay_loops`` [loops] (a lab's; 1 for the report's).
     delay : str
         Delay treatment of :class:`~impedance_mil.plant.LinearTable`; the
         report designs with ``"first-order"``.

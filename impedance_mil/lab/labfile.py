@@ -139,7 +139,9 @@ class LabSetup:
     path : Path
         The file read.
     table : TableParameters
-        The table (its loop time and valve command limit as the lab sets them).
+        The table (its loop time, output delay in loops and valve command
+        limit as the lab sets them: the linear models of
+        :mod:`impedance_mil.plant` built from it are delayed as the lab's runs).
     limits : SafetyLimits
         The interlocks.
     sensors : SensorSetup
@@ -170,22 +172,6 @@ class LabSetup:
     @property
     def is_report(self) -> bool:
         return self.name == REPORT_LAB
-
-    def require_one_loop_delay(self, use: str) -> None:
-        """Refuse an output delay of more than one loop for ``use`` (e.g. ``imil design``).
-
-        The linear table model (:mod:`impedance_mil.plant.linear`) delays the
-        hydraulic loop's feedback by one loop time, the report's controller;
-        the virtual lab's runs honour any delay.
-        """
-        delay = self.controller.output_delay
-        if delay != 1:
-            raise ConfigError(
-                f"{self.name}: controller.output_delay",
-                f"1 loop for {use} (its linear table model delays the feedback by one loop time; "
-                "the virtual lab's runs honour the lab's delay)",
-                f"{delay} loops",
-            )
 
     def to_dict(self) -> dict[str, Any]:
         """The effective setup with the source of each value (``imil lab show --json``)."""
@@ -313,7 +299,7 @@ def load_lab(
     sources: dict[str, str] = {}
     params = _table(data.get("table"), base, overrides or {}, where, sources)
     controller = _controller(data.get("controller"), params, where, sources)
-    params = params.replace(loop_time=controller.loop_time)
+    params = params.replace(loop_time=controller.loop_time, output_delay_loops=controller.output_delay)
     limits, command = _limits(data.get("limits"), params, controller, where, sources)
     params = params.replace(valve_command_limit=command)
     sensors = sensor_setup(data.get("sensors"), params, controller.adc, where)

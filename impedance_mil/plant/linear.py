@@ -10,6 +10,23 @@ closed with the feedback delayed by one loop time tau_s, treated as
 * ``"pade"``: a Pade approximation of order n of ``e^{-s tau}`` on the feedback signal;
 * ``"sampled"``: the exact sampled-data loop (see :mod:`impedance_mil.plant.sampled`).
 
+A controller with an output delay of N loops (``TableParameters.output_delay_loops``,
+a lab's ``[controller] output_delay``; 1 for the report's) applies the command it
+computes at loop k over loop k + N - 1, so that
+``u_v(t) = K_e u(t - (N-1) tau_s) - [K_e x + K_p dP](t - N tau_s)``: the feedback is
+delayed by N tau_s and the command by (N-1) tau_s.  The continuous treatments
+approximate both delays:
+
+* ``"first-order"``: the feedback ``e^{-s N tau} ~ 1 - s N tau`` (the report's
+  treatment with N tau for tau), and the command ``e^{-s (N-1) tau} ~ 1 / (1 + s (N-1) tau)``,
+  a first-order lag (``1 - s (N-1) tau`` would differentiate the command), one more state;
+* ``"pade"``: Pade approximations of order n of ``e^{-s N tau}`` on the feedback and of
+  ``e^{-s (N-1) tau}`` on the command (n more states);
+* ``"none"``: the analog controller has no loop time and no delay, whatever N;
+* ``"sampled"``: the N - 1 commands not yet applied are states of the discrete model.
+
+N = 1 is the model above, to the last bit.
+
 The six transfer functions of Eq 4-15 follow from the state space; they are
 never typed in by hand (the tests compare them with Eq 4-15 coefficient by
 coefficient).
@@ -46,8 +63,28 @@ DEFAULT_PADE_ORDER = 6
 MAX_PADE_ORDER = 10
 
 
-def pade_state_space(tau: float, order: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """State space ``(Ad, bd, cd, dd)`` of the Pade approximation of ``e^{-s tau}``, tau [s].
+@dataclass(frozen=True, eq=False)
+class DelayApproximation:
+    """A SISO rational approximation of a delay ``e^{-s tau}``: ``q' = A q + b y``, output ``c q + d y``.
+
+    Attributes
+    ----------
+    A : ndarray, shape (n, n)
+        State matrix [1/s].
+    b, c : ndarray, shape (n,)
+        Input and output vectors (``b`` [1/s]).
+    d : float
+        Feedthrough [-].
+    """
+
+    A: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    d: float
+
+
+def pade_state_space(tau: float, order: int) -> DelayApproximation:
+    """The Pade approximation of order ``order`` of ``e^{-s tau}``, tau [s].
 
     Realized for tau = 1 and balanced, then scaled by ``1/tau`` (``s tau`` is
     the natural variable), so that short delays do not give huge coefficients.
@@ -55,42 +92,53 @@ def pade_state_space(tau: float, order: int) -> tuple[np.ndarray, np.ndarray, np
     unit = StateSpace.from_polynomials(*control.pade(1.0, order))
     A1, T = scipy.linalg.matrix_balance(unit.A, permute=False)
     scaling = np.diag(T)
-    return A1 / tau, unit.B[:, 0] / scaling / tau, unit.C[0] * scaling, float(unit.D[0, 0])
+    return DelayApproximation(
+        A1 / tau, unit.B[:, 0] / scaling / tau, unit.C[0] * scaling, float(unit.D[0, 0])
+    )
+
+
+def first_order_lag(tau: float) -> DelayApproximation:
+    """``1 / (1 + s tau)``, the first-order approximation of ``e^{-s tau}`` that needs no derivative, tau [s]."""
+    return DelayApproximation(np.array([[-1.0 / tau]]), np.array([1.0 / tau]), np.array([1.0]), 0.0)
 
 
 def closed_loop_state_space(
     p: TableParameters, delay: str = "first-order", pade_order: int = DEFAULT_PADE_ORDER
 ) -> TableStateSpace:
-    """Closed hydraulic loop ``u_i = K_v (K_e u - [K_e x + K_p dP](t - tau_s))``.
+    """Closed hydraulic loop ``u_i = K_v (K_e u(t - (N-1) tau_s) - [K_e x + K_p dP](t - N tau_s))``.
 
     Parameters
     ----------
     p : TableParameters
-        Model parameters.
+        Model parameters; N = ``p.output_delay_loops`` (1: the report's one-loop delay).
     delay : {"none", "first-order", "pade"}
-        Treatment of the one-loop feedback delay tau_s = ``p.loop_time`` [s].
+        Treatment of the feedback delay N tau_s and the command delay (N-1) tau_s,
+        tau_s = ``p.loop_time`` [s] (module docstring).
     pade_order : int
-        Order of the Pade approximation (``delay="pade"``).
+        Order of the Pade approximations (``delay="pade"``).
 
     Returns
     -------
     TableStateSpace
         Eq 4-14b (``"none"``), Eq 4-14a (``"first-order"``) or the model
-        augmented with the Pade states (``"pade"``).
+        augmented with the Pade states (``"pade"``); for N > 1 with the states
+        of the command delay after them (``command_delay_i``).
     """
     ol = plant_state_space(p)
     A, b_i = ol.A, ol.B_u
     k = feedback_row(p)
     tau = p.loop_time
+    loops = p.output_delay_loops
     b_u = p.Kv * p.Ke * b_i
     if delay == "none" or tau == 0.0:
         A_cl = A - p.Kv * np.outer(b_i, k)
         return TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
     if delay == "first-order":
-        # y(t - tau) ~ y - tau y' with y' = k A x (k B = 0: x and dP have no direct input)
-        k_delayed = k - tau * (k @ A)
+        # y(t - N tau) ~ y - N tau y' with y' = k A x (k B = 0: x and dP have no direct input)
+        k_delayed = k - (loops * tau) * (k @ A)
         A_cl = A - p.Kv * np.outer(b_i, k_delayed)
-        return TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
+        loop = TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
+        return loop if loops == 1 else command_delayed(loop, first_order_lag((loops - 1) * tau))
     if delay == "pade":
         if (
             isinstance(pade_order, bool)
@@ -98,7 +146,8 @@ def closed_loop_state_space(
             or not 1 <= pade_order <= MAX_PADE_ORDER
         ):
             raise ConfigError("pade_order", f"an integer from 1 to {MAX_PADE_ORDER}", pade_order)
-        Ad, bd, cd, dd = pade_state_space(tau, pade_order)
+        fb = pade_state_space(loops * tau, pade_order)
+        Ad, bd, cd, dd = fb.A, fb.b, fb.c, fb.d
         q = Ad.shape[0]
         A_cl = np.block(
             [
@@ -109,10 +158,30 @@ def closed_loop_state_space(
         pad = np.zeros(q)
         C = {name: np.concatenate([row, pad]) for name, row in ol.C.items()}
         states = PLANT_STATES + tuple(f"delay_{i + 1}" for i in range(q))
-        return TableStateSpace.build(
+        loop = TableStateSpace.build(
             A_cl, np.concatenate([b_u, pad]), np.concatenate([ol.B_w, pad]), C, ol.D, states
         )
+        if loops == 1:
+            return loop
+        return command_delayed(loop, pade_state_space((loops - 1) * tau, pade_order))
     raise ConfigError("delay", "one of none, first-order, pade", delay)
+
+
+def command_delayed(loop: TableStateSpace, delay: DelayApproximation) -> TableStateSpace:
+    """``loop`` with its command u [in] first passed through ``delay``.
+
+    The delay's states follow the loop's, named ``command_delay_i``; the
+    force w [lbf] does not pass through it.
+    """
+    Ad, bd, cd, dd = delay.A, delay.b, delay.c, delay.d
+    n, q = loop.A.shape[0], Ad.shape[0]
+    A = np.block([[loop.A, np.outer(loop.B_u, cd)], [np.zeros((q, n)), Ad]])
+    C = {name: np.concatenate([row, loop.D[name][0] * cd]) for name, row in loop.C.items()}
+    D = {name: (dd * d_u, d_w) for name, (d_u, d_w) in loop.D.items()}
+    states = loop.states + tuple(f"command_delay_{i + 1}" for i in range(q))
+    return TableStateSpace.build(
+        A, np.concatenate([dd * loop.B_u, bd]), np.concatenate([loop.B_w, np.zeros(q)]), C, D, states
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,7 +193,8 @@ class LinearTable:
     params : TableParameters
         Model parameters (report Table 4.1).
     delay : {"none", "first-order", "pade", "sampled"}
-        Treatment of the controller loop time (see module docstring).
+        Treatment of the controller loop time and of its output delay of
+        ``params.output_delay_loops`` loops (see module docstring).
     pade_order : int
         Order of the Pade approximation for ``delay="pade"``.
 
@@ -214,8 +284,10 @@ class LinearTable:
                 ", ".join(f"{abs(q) / (2 * np.pi):.1f} Hz (real part {q.real:+.2f} rad/s)" for q in bad)
                 or "|z| >= 1"
             )
+            loops = self.params.output_delay_loops
+            output_delay = f", output_delay={loops} loops" if loops > 1 else ""
             raise UnstableSystemError(
                 f"the table loop is unstable (Ke={self.params.Ke:g} V/in, Kp={self.params.Kp:g} "
-                f"V/psi, loop_time={self.params.loop_time:g} s, delay={self.delay}): {text}"
+                f"V/psi, loop_time={self.params.loop_time:g} s{output_delay}, delay={self.delay}): {text}"
             )
         return self

@@ -22,6 +22,8 @@ from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ..config import Field, parse_fields, read_toml
 from ..errors import ConfigError
 from ..plausibility import check_table
@@ -226,6 +228,13 @@ class TableParameters:
         Rated valve current u_i,max [mA].
     valve_command_limit : float
         Limit of the valve command |u_v| [V].
+    output_delay_loops : int
+        The controller's output delay N [loops] (default 1, the report's
+        controller): the valve command computed at loop k is applied over
+        loop k + N - 1, so the command reaches the valve N - 1 loops and the
+        feedback N loops late (:mod:`impedance_mil.plant.linear`).  Not a
+        key of a table file: a lab's ``[controller] output_delay`` sets it
+        (:func:`impedance_mil.lab.labfile.load_lab`).
 
     Examples
     --------
@@ -253,8 +262,13 @@ class TableParameters:
     rated_pressure_drop: float
     rated_current: float
     valve_command_limit: float
+    output_delay_loops: int = 1
 
     def __post_init__(self):
+        delay = self.output_delay_loops
+        if isinstance(delay, bool) or not isinstance(delay, (int, np.integer)) or delay < 1:
+            raise ConfigError("output_delay_loops", "a whole number of loops, at least 1", delay)
+        object.__setattr__(self, "output_delay_loops", int(delay))
         for name in ("Ke", "Kp", "loop_time", "zeta_oil", "return_pressure"):
             _check_positive(name, float(getattr(self, name)), allow_zero=True)
         for name in (
@@ -347,8 +361,12 @@ class TableParameters:
         return replace(self, **changes)
 
     def to_dict(self) -> dict[str, Any]:
-        """All fields in internal units; ``valve_poles_hz`` as a list."""
-        out = asdict(self)
+        """The table's keys (:data:`FIELDS`) in internal units; ``valve_poles_hz`` as a list.
+
+        ``output_delay_loops`` is the controller's (a lab's), not a key of a
+        table file, and is not in it.
+        """
+        out = {key: value for key, value in asdict(self).items() if key in FIELDS}
         out["valve_poles_hz"] = list(self.valve_poles_hz)
         return out
 

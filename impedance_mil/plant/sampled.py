@@ -11,6 +11,15 @@ exactly (ZOH, matrix exponential) and augmented with one memory state
 the report's first-order approximation ``e^{-s tau} ~ 1 - s tau`` is judged
 (:mod:`impedance_mil.plant.tuning`).
 
+A controller with an output delay of N loops
+(:attr:`~impedance_mil.plant.parameters.TableParameters.output_delay_loops`)
+applies the command computed at loop k over loop k + N - 1, as the virtual
+lab's ring buffer does (:func:`impedance_mil.lab.kernels.delayed_output`):
+the valve receives ``u_v(k - N + 1)``, the command N - 1 loops and the
+feedback N loops late.  The model carries the N - 1 commands computed and
+not yet applied as N - 1 more states ``pending_j(k) = u_v(k - j)`` [V]; for
+N = 1 it is the one-memory model above.
+
 The force w is treated as held over each loop (the model describes the
 response at the sampling instants).
 """
@@ -59,26 +68,46 @@ class SampledTable(TableChannels):
     ----------
     system : StateSpace
         Discrete, sample time the loop time T [s]; states ``[x, v, dp,
-        spool, spool_rate, memory]`` (``memory``: the feedback saved in the
-        previous loop [V]); inputs the command u [in] and the force w [lbf];
+        spool, spool_rate, memory, pending_1 ... pending_{N-1}]`` (``memory``:
+        the feedback saved in the previous loop [V]; ``pending_j``: the valve
+        command computed j loops earlier [V], N the output delay); inputs the command u [in] and the force w [lbf];
         outputs ``"z"``, ``"x"``, ``"v"``, ``"dp"``.
     """
 
     @classmethod
     def from_params(cls, p: TableParameters) -> SampledTable:
-        """Discretize Eq 4-11 with ZOH over ``p.loop_time`` and close the one-loop-delayed feedback."""
+        """Discretize Eq 4-11 with ZOH over ``p.loop_time`` and close the delayed hydraulic loop.
+
+        The loop is delayed as the virtual lab delays it: the feedback by one
+        loop (the ``memory`` state), the whole valve command by
+        ``p.output_delay_loops - 1`` more (the ``pending_j`` states).
+        """
         if not p.loop_time > 0:
             raise ConfigError("loop_time", "a positive loop time for the sampled-data model", p.loop_time)
         ol = plant_state_space(p).system.zoh(p.loop_time)
         phi, g_i, g_w = ol.A, ol.B[:, 0], ol.B[:, 1]
-        n = phi.shape[0]
-        A = np.zeros((n + 1, n + 1))
+        n, extra = phi.shape[0], p.output_delay_loops - 1
+        memory = n
+        A = np.zeros((n + 1 + extra, n + 1 + extra))
+        B = np.zeros((n + 1 + extra, 2))
         A[:n, :n] = phi
-        A[:n, n] = -p.Kv * g_i
-        A[n, :n] = feedback_row(p)
-        B = np.column_stack([np.append(p.Kv * p.Ke * g_i, 0.0), np.append(g_w, 0.0)])
-        C = np.column_stack([ol.C, np.zeros(ol.n_outputs)])
-        states = PLANT_STATES + ("memory",)
+        A[memory, :n] = feedback_row(p)
+        B[:n, 1] = g_w
+        if extra == 0:
+            # u_v(k) = K_e u(k) - m(k), applied at once
+            A[:n, memory] = -p.Kv * g_i
+            B[:n, 0] = p.Kv * p.Ke * g_i
+        else:
+            # pending_1(k+1) = u_v(k) = K_e u(k) - m(k); pending_j(k+1) = pending_{j-1}(k);
+            # the valve receives pending_{N-1}(k)
+            first, last = n + 1, n + extra
+            A[first, memory] = -1.0
+            B[first, 0] = p.Ke
+            for j in range(first + 1, last + 1):
+                A[j, j - 1] = 1.0
+            A[:n, last] = p.Kv * g_i
+        C = np.column_stack([ol.C, np.zeros((ol.n_outputs, 1 + extra))])
+        states = PLANT_STATES + ("memory",) + tuple(f"pending_{j + 1}" for j in range(extra))
         return cls(StateSpace(A, B, C, ol.D, p.loop_time, INPUTS, ol.outputs, states))
 
     @property

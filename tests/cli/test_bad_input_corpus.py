@@ -754,13 +754,6 @@ def _lab_cases():
             ("design", "--lab", "l.toml", "-o", "d.json"),
         ):
             yield f"lab file {family} / {' '.join(argv[:2])}", argv, files, (name,)
-    # A lab's output delay of 2 loops runs, but the linear table model of design/export has one.
-    files = {"t.toml": TABLE_TOML, "l.toml": LAB_TOML + "[controller]\noutput_delay = 2\n"}
-    for argv in (
-        ("design", "--lab", "l.toml", "-o", "d.json"),
-        ("export", "--lab", "l.toml", "--fc", "80", "-o", "ctrl"),
-    ):
-        yield f"lab file output delay of 2 loops / {argv[0]}", argv, files, ("controller.output_delay",)
 
 
 #: Cases accepted today (exit 0) or refused without naming the key, each a finding left for its area's owner: the test is strict,
