@@ -29,6 +29,13 @@ OUT_Z, OUT_DISP, OUT_VEL, OUT_FORCE = range(4)
 
 _JIT = dict(cache=True, nogil=True)
 
+# The loops over a history take the type's kernels as arguments typed by their dispatchers, so
+# they are compiled once per VS type and process and *not cached*: numba's cache index keys them
+# by those dispatcher types and pickles every key again at each save, which fails ("underlying
+# object has vanished") once a process has dropped an earlier type's dispatcher (seen in the test
+# suite: 85 index entries, 4 failed runs).  The per-type kernels themselves stay cached.
+_LOOP_JIT = dict(cache=False, nogil=True)
+
 
 @numba.njit(**_JIT, inline="always")
 def sign(value):
@@ -40,7 +47,7 @@ def sign(value):
     return 0.0
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_LOOP_JIT)
 def simulate_records(fns, p, x, a_g, w, dt, work, out, rec):
     """Run a VS over input histories, one RK3 step per sample.
 
@@ -58,7 +65,7 @@ def simulate_records(fns, p, x, a_g, w, dt, work, out, rec):
         tick(p, x, a_g[k], w[k], dt, work)
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_LOOP_JIT)
 def outputs_along(fns, p, states, out, rec):
     """``rec[k] = outputs(states[k])`` with ``a_g = w = 0``, ``fns = (outputs,)`` (the force and
     kinematics of recorded states; ``z_vs`` there is that of zero inputs)."""
