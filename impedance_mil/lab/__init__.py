@@ -9,15 +9,20 @@
 (True, 100)
 """
 
-from .experiments import ControlledRun, FrfExperiment, KpStudy, kp_study, run_frf, run_mil, run_tracking
-from .identification import TableIdentification, identify_table, model_response
-from .loop import simulate, simulate_interface
-from .metrics import RunMetrics, evaluate_run
-from .plant_interface import Measurements, PlantInterface, VirtualTable
-from .reference import ScipyTable
-from .results import RunResult, load_run, save_run
-from .setup import SafetyLimits, default_sensors, ideal_sensors
-from .trips import Trip, TripCause
+from typing import TYPE_CHECKING
+
+from ..lazy import lazy_exports
+
+if TYPE_CHECKING:  # what the names are; each is imported on first use (below)
+    from .experiments import ControlledRun, FrfExperiment, KpStudy, kp_study, run_frf, run_mil, run_tracking
+    from .identification import TableIdentification, identify_table, model_response
+    from .loop import simulate, simulate_interface
+    from .metrics import RunMetrics, evaluate_run
+    from .plant_interface import Measurements, PlantInterface, VirtualTable
+    from .reference import ScipyTable
+    from .results import RunResult, load_run, save_run
+    from .setup import SafetyLimits, default_sensors, ideal_sensors
+    from .trips import Trip, TripCause
 
 __all__ = [
     "ControlledRun",
@@ -47,3 +52,28 @@ __all__ = [
     "simulate",
     "simulate_interface",
 ]
+
+# Each name's submodule, imported when the name is first read (PEP 562, impedance_mil/lazy.py):
+# ``from impedance_mil.lab import RunResult`` does not import the compiled loop, design or signals.
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "experiments": (
+            "ControlledRun",
+            "FrfExperiment",
+            "KpStudy",
+            "kp_study",
+            "run_frf",
+            "run_mil",
+            "run_tracking",
+        ),
+        "identification": ("TableIdentification", "identify_table", "model_response"),
+        "loop": ("simulate", "simulate_interface"),
+        "metrics": ("RunMetrics", "evaluate_run"),
+        "plant_interface": ("Measurements", "PlantInterface", "VirtualTable"),
+        "reference": ("ScipyTable",),
+        "results": ("RunResult", "load_run", "save_run"),
+        "setup": ("SafetyLimits", "default_sensors", "ideal_sensors"),
+        "trips": ("Trip", "TripCause"),
+    },
+)

@@ -7,18 +7,23 @@ describing function and generated C/ST code are derived from it.  See
 ``docs/virtual.md``.
 """
 
-from . import presets
-from .base import LinearPart, PythonVS, VirtualSystem, VSOutput, VSResponse
-from .codegen import CompiledVS, compiled
-from .definition import Derived, Parameter, Rule, VSDefinition, VSDefinitionError
-from .models import FrictionPendulum, LeadRubber, SpringDamper
-from .registry import BUILTIN, get_type, kinds, load_type_file
-from .system import DefinedVS
-from .targets import BASEMAT_MASS, TEST_ARTICLE_WEIGHT
-from .types.friction_pendulum import FPTargets
-from .types.lead_rubber import LRTargets
-from .types.spring_damper import SDTargets
-from .vstype import VSType
+from typing import TYPE_CHECKING
+
+from ..lazy import lazy_exports
+
+if TYPE_CHECKING:  # what the names are; each is imported on first use (below)
+    from . import presets
+    from .base import LinearPart, PythonVS, VirtualSystem, VSOutput, VSResponse
+    from .codegen import CompiledVS, compiled
+    from .definition import Derived, Parameter, Rule, VSDefinition, VSDefinitionError
+    from .models import FrictionPendulum, LeadRubber, SpringDamper
+    from .registry import BUILTIN, get_type, kinds, load_type_file
+    from .system import DefinedVS
+    from .targets import BASEMAT_MASS, TEST_ARTICLE_WEIGHT
+    from .types.friction_pendulum import FPTargets
+    from .types.lead_rubber import LRTargets
+    from .types.spring_damper import SDTargets
+    from .vstype import VSType
 
 __all__ = [
     "presets",
@@ -49,3 +54,23 @@ __all__ = [
     "BASEMAT_MASS",
     "TEST_ARTICLE_WEIGHT",
 ]
+
+# Each name's submodule, imported when the name is first read (PEP 562, impedance_mil/lazy.py):
+# the presets and definitions do not import numba and the generated kernels.
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "base": ("LinearPart", "PythonVS", "VirtualSystem", "VSOutput", "VSResponse"),
+        "codegen": ("CompiledVS", "compiled"),
+        "definition": ("Derived", "Parameter", "Rule", "VSDefinition", "VSDefinitionError"),
+        "models": ("FrictionPendulum", "LeadRubber", "SpringDamper"),
+        "registry": ("BUILTIN", "get_type", "kinds", "load_type_file"),
+        "system": ("DefinedVS",),
+        "targets": ("BASEMAT_MASS", "TEST_ARTICLE_WEIGHT"),
+        "types.friction_pendulum": ("FPTargets",),
+        "types.lead_rubber": ("LRTargets",),
+        "types.spring_damper": ("SDTargets",),
+        "vstype": ("VSType",),
+    },
+    submodules=("presets",),
+)

@@ -1,0 +1,106 @@
+"""The lazy command registry of ``imil`` (issue 16, goal 1 "Start-up").
+
+``imil --help`` lists every command from ``cli.main.COMMANDS`` without importing the command
+modules; each command is imported when it runs.  The table's short help must say what the
+command's own docstring says, so the listing cannot drift from the commands.
+"""
+
+from __future__ import annotations
+
+import importlib
+import subprocess
+import sys
+
+import pytest
+import typer
+
+from impedance_mil.cli.main import COMMANDS, app, load_target
+
+try:
+    from typer._click.utils import make_default_short_help
+except ImportError:  # pragma: no cover - depends on the installed typer
+    from click.utils import make_default_short_help  # type: ignore[no-redef]
+
+#: Modules a command that only reads a configuration must not import (issue 16: python-control
+#: 1.9 s, matplotlib, numba kernels, dask, pandas/pyarrow).
+HEAVY = ("control", "matplotlib", "numba", "dask", "distributed", "pandas", "pyarrow")
+
+#: Prints the heavy modules and the command modules imported by ``imil ARGS``, after it ran.
+PROBE = """
+import atexit, sys
+def report():
+    print(" ".join(sorted(m for m in sys.modules if m.split(".")[0] in {heavy!r}
+                          or m.startswith("impedance_mil.cli.") and m != "impedance_mil.cli.main")))
+atexit.register(report)
+from impedance_mil.cli.main import run
+sys.argv = ["imil", *sys.argv[1:]]
+run()
+"""
+
+
+def imported_by(*args: str) -> set[str]:
+    """The heavy modules and command modules a fresh ``imil ARGS`` imports."""
+    done = subprocess.run(
+        [sys.executable, "-c", PROBE.format(heavy=set(HEAVY)), *args],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return set(done.stdout.splitlines()[-1].split())  # the probe's line comes last
+
+
+def test_help_imports_no_command_module_and_nothing_heavy():
+    assert imported_by("--help") == set()
+
+
+#: A light name of each package, and what importing it may not pull in (issue 16: the package
+#: ``__init__`` files import their names on first use, impedance_mil/lazy.py).
+LIGHT_NAMES = {
+    # pint (which the parameters' units need) imports dask itself, in pint.compat
+    "from impedance_mil.plant import TableParameters": tuple(m for m in HEAVY if m != "dask"),
+    "from impedance_mil.lab import RunResult": HEAVY,
+    "from impedance_mil.signals import GroundMotion": HEAVY,
+    # design and implement import python-control with passivity and discretize, names of their
+    # own submodules, which cannot be lazy (impedance_mil/lazy.py)
+    "import impedance_mil.plant, impedance_mil.lab, impedance_mil.signals, impedance_mil.virtual, "
+    "impedance_mil.specimens, impedance_mil.campaign": (*HEAVY, "pint", "scipy.signal", "h5py"),
+}
+
+
+@pytest.mark.parametrize("statement", list(LIGHT_NAMES))
+def test_package_inits_import_only_the_names_read(statement):
+    probe = (
+        f"import sys; {statement}; print(' '.join(m for m in {LIGHT_NAMES[statement]!r} if m in sys.modules))"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert done.stdout.split() == []
+
+
+@pytest.mark.parametrize(
+    "package", ["plant", "lab", "design", "signals", "virtual", "specimens", "campaign", "implement"]
+)
+def test_every_public_name_of_a_package_resolves(package):
+    module = importlib.import_module(f"impedance_mil.{package}")
+    for name in module.__all__:
+        getattr(module, name)  # an AttributeError or ImportError names the stale entry
+    assert set(module.__all__) <= set(dir(module))
+    with pytest.raises(AttributeError, match="no_such_name"):
+        module.no_such_name  # noqa: B018
+
+
+def test_help_lists_every_command_in_the_table_order(imil, tmp_path):
+    result = imil("--help", cwd=tmp_path)
+    listed = [line.split()[0] for line in result.stdout.split("Commands:")[1].splitlines() if line.strip()]
+    assert listed == list(COMMANDS)
+
+
+@pytest.mark.parametrize("name", list(COMMANDS))
+def test_table_help_is_the_commands_own_first_sentence(name):
+    command = typer.main.get_command(app).commands[name]
+    for limit in (45, 80, 10_000):  # the width of a terminal, and no truncation
+        assert make_default_short_help(COMMANDS[name].help, limit) == command.get_short_help_str(limit)
+
+
+def test_every_target_exists():
+    for entry in COMMANDS.values():
+        assert callable(load_target(entry.target)) or isinstance(load_target(entry.target), typer.Typer)
