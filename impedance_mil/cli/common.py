@@ -30,16 +30,24 @@ def print_json(data: Any, units: UnitSystem = UnitSystem.US) -> None:
     print(json.dumps(json_safe(doc), indent=2))
 
 
-def print_fields(data: Mapping[str, Any], units: UnitSystem, width: int = 32) -> None:
+def field_lines(data: Mapping[str, Any], units: UnitSystem, width: int = 32, indent: str = "") -> list[str]:
     """``key  value unit`` lines of a flat document (internal units) in ``units``."""
     shown = express(data, units)
+    lines = []
     for key, value in shown.items():
         if key in ("units", "unit_system"):
             continue
         unit = shown["units"].get(key, "")
         text = f"{value:.6g}" if isinstance(value, float) else str(value)
-        tail = "" if unit in ("", "1", "unknown") or unit == TF_COEFFICIENTS else " " + human_name(unit)
-        console.print(f"{key:{width}s} {text}{tail}", markup=False)
+        tail = "" if unit in ("", "1", "unknown", TF_COEFFICIENTS) else " " + human_name(unit)
+        lines.append(f"{indent}{key:{width}s} {text}{tail}")
+    return lines
+
+
+def print_fields(data: Mapping[str, Any], units: UnitSystem, width: int = 32) -> None:
+    """Print :func:`field_lines`."""
+    for line in field_lines(data, units, width):
+        console.print(line, markup=False)
 
 
 #: The ``--units`` option of every command.

@@ -27,14 +27,13 @@ from pathlib import Path
 
 import typer
 
-from ..display import UnitSystem, format_value, human_name
+from ..display import UnitSystem, format_value
 from ..fileio import atomic_write_text
 from ..lab.choices import Choices, mil_test
 from ..plant import TableParameters
 from ..plant.tuning import pole_summary
 from ..report import table_plots
-from ..report.documents import express
-from .common import UnitsOpt, console, output_units
+from .common import UnitsOpt, console, field_lines, output_units
 from .runopts import CHOICE_OPTIONS, EXIT_INTERRUPTED, err_console, output_path, percent
 from .simulate import Outcome, check, perform, print_outcome, warn
 
@@ -52,12 +51,8 @@ def _say(text: str = "") -> None:
 
 def table_summary(p: TableParameters, units: UnitSystem = UnitSystem.US) -> list[str]:
     """Parameters (in ``units``) and closed-loop poles for three delay models (Section 4.4)."""
-    shown = express(p.to_dict(), units)
     lines = [f"Shake table of the report (Table 4.1, d = 1e5 per docs/errata.md), in {units.value} units:"]
-    for key in p.to_dict():
-        value, unit = shown[key], human_name(shown["units"].get(key, ""))
-        text = f"{value:.6g}" if isinstance(value, float) else str(value)
-        lines.append(f"  {key:22s} {text}" + ("" if unit in ("", "1") else f" {unit}"))
+    lines += field_lines(p.to_dict(), units, width=22, indent="  ")
     for delay in ("none", "first-order", "sampled"):
         stable, rows = pole_summary(p, delay)
         lines.append(f"closed-loop poles, delay model '{delay}' (stable: {'yes' if stable else 'NO'}):")

@@ -74,7 +74,7 @@ _SUFFIX_UNITS: dict[str, str] = {
 _SUFFIX_UNITS.update(
     {"g": "g0", "db": "dB", "pct": "percent", "percent": "percent", "in3_s_psi": "inch**3 / second / psi"}
 )
-_SUFFIX_UNITS.update({"in3_s_ma": "inch**3 / second / milliampere", "rad_s": "radian / second"})
+_SUFFIX_UNITS.update({"in3_s_ma": "inch**3 / second / milliampere"})  # the order JSON keys use
 
 #: Suffixes, longest first (``_in_s2`` before ``_s2``, ``_in3_s_psi`` before ``_psi``).
 _SUFFIXES = sorted(_SUFFIX_UNITS, key=len, reverse=True)
@@ -201,8 +201,7 @@ def _object(
                 continue
             sibling_used |= rule == "sibling"
             shown_value, name = _convert(value, unit, system)
-            changed = rule == "suffix" and name != _shown_name(display_unit(unit, UnitSystem.US).name)
-            new_key = _renamed(str(key), name) if changed else str(key)
+            new_key = _renamed(str(key), unit, name) if rule == "suffix" else str(key)
             out[new_key] = shown_value
             units[f"{path}.{new_key}" if path else new_key] = name
         elif isinstance(value, Mapping):
@@ -218,15 +217,14 @@ def _object(
     return out
 
 
-def _renamed(key: str, unit_name: str) -> str:
-    """``peak_table_disp_in`` shown in ``mm`` -> ``peak_table_disp_mm`` (unchanged when the unit is)."""
+def _renamed(key: str, unit: str, unit_name: str) -> str:
+    """``peak_table_disp_in`` shown in ``mm`` -> ``peak_table_disp_mm``: a key whose suffix names
+    ``unit`` follows it when it is shown as ``unit_name`` (unchanged where the unit reads the same
+    in both systems: ``fc_hz``, ``pga_g``)."""
     suffix = _suffix(key)
-    if suffix is None or unit_name == PURE:
+    if suffix is None or unit_name == _shown_name(display_unit(unit, UnitSystem.US).name):
         return key
-    shown = key_suffix(unit_name)
-    if shown.lower() == suffix:
-        return key
-    return key[: len(key) - len(suffix)] + shown
+    return key[: len(key) - len(suffix)] + key_suffix(unit_name)
 
 
 def _field_unit(key: str, path: str, sibling: str | None) -> tuple[str, str]:

@@ -12,34 +12,12 @@ import json
 
 import pytest
 
-from impedance_mil.plant import default_table_path
 from impedance_mil.report.documents import UNKNOWN
 
-SI_LAB = f"""
-units = "si"
-[table]
-file = "{default_table_path()}"
-mid_stroke = "150 mm"
-[limits]
-stroke = "50 mm"
-velocity = "1 m/s"
-[sensors.accel]
-quantity = "acceleration"
-range = "3 g0"
-[sensors.lvdt]
-quantity = "displacement"
-range = "150 mm"
-resolution = "0.01 mm"
-[sensors.dp]
-quantity = "differential_pressure"
-range = "250 bar"
-[sensors.lc]
-quantity = "load_cell"
-range = "500 lbf"
-[specimen]
-kind = "rigid"
-article_weight = "1000 kg"
-"""
+from .test_lab_cli import LAB
+
+#: The SI lab of test_lab_cli, printing in SI.
+SI_LAB = 'units = "si"\n' + LAB
 
 
 @pytest.fixture
