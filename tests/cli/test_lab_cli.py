@@ -140,7 +140,12 @@ def test_drive_motion_checks_against_the_labs_interlocks_and_article(imil, lab_f
 
 
 @pytest.mark.parametrize("command", ["identify", "evaluate"])
-def test_identify_and_evaluate_take_the_lab(imil, lab_file, command):
-    # The lab's table sets the expected sample rate; a missing recording is refused after the lab is read.
-    res = imil(command, "missing.csv", "--lab", lab_file, "-o", "x.h5")
+def test_identify_and_evaluate_take_the_lab(imil, lab_file, tmp_path, command):
+    # A valid lab is accepted (the missing recording is what is refused); a lab whose stroke is
+    # beyond its table's mid-stroke is refused naming the lab's key: the lab file is read.
+    res = imil(command, "missing.csv", "--lab", lab_file, "-o", tmp_path / "x.h5")
     assert res.returncode == 2 and "missing.csv" in res.stderr and "--lab" not in res.stderr
+    bad = tmp_path / "bad.toml"
+    bad.write_text(LAB.replace('stroke = "50 mm"', 'stroke = "200 mm"'))
+    res = imil(command, "missing.csv", "--lab", bad, "-o", tmp_path / "x.h5")
+    assert res.returncode == 2 and "bad.toml: limits.stroke" in res.stderr and res.stderr.count("\n") == 1
