@@ -15,6 +15,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from impedance_mil.campaign import InlineExecutor, LocalExecutor, load_campaign, load_summary, run_campaign
+from impedance_mil.campaign import summary as summary_module
 from impedance_mil.campaign.kinds import get_kind
 from impedance_mil.design.io import load_design
 from impedance_mil.fileio import stale_temporaries
@@ -243,3 +244,13 @@ def test_summary_csv_and_parquet_hold_one_row_per_run(make_campaign, tmp_path):
     loaded = load_summary(tmp_path / "out")
     assert len(loaded.where(status="ok")) == 2 and len(loaded.where(fail=True)) == 2
     assert all(math.isfinite(v) for v in loaded.values("damping_ratio"))
+
+
+def test_without_pyarrow_the_summary_is_the_csv_alone(make_campaign, tmp_path, monkeypatch):
+    # pyarrow is an extra (`impedance-mil[parquet]`, docs/dependencies.md): a core install has none
+    monkeypatch.setattr(summary_module, "parquet", None)
+    monkeypatch.setattr(summary_module, "pyarrow", None)
+    spec = load_campaign(make_campaign(HEAD + '[[study]]\nname = "a"\nproduct = { damping = [1, 2] }\n'))
+    result = run_campaign(spec, tmp_path / "out", InlineExecutor())
+    assert result.summary.parquet is None and not (tmp_path / "out" / "summary.parquet").exists()
+    assert len(load_summary(tmp_path / "out").rows) == 2
