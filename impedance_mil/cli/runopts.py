@@ -75,6 +75,8 @@ CHOICE_OPTIONS = {
     "peak": "--peak",
     "delay": "--delay",
     "kp_study": "--kp-study",
+    "design": "--design",
+    "vs_overrides": "--set-vs",
 }
 
 _REPORT = report_config()

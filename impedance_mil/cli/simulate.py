@@ -140,6 +140,12 @@ RequireOpt = typer.Option(
     help="Constraints the design must satisfy before it runs: I, II, III (comma-separated), all or none.",
 )
 OverwriteOpt = typer.Option(False, "--overwrite", help="Replace existing output files.")
+DesignOpt = typer.Option(
+    None,
+    "--design",
+    help="Design file (JSON, imil design -o) to run as designed: its controller, cut-off and VS "
+    "(refused for another table unless --force).",
+)
 
 
 def choices(**options) -> Choices:
@@ -230,6 +236,8 @@ def print_outcome(outcome: Outcome, units: UnitSystem = UnitSystem.US) -> None:
         f"  specimen: {test.specimen.label}; feedback: {test.controller.feedback.value}; "
         f"f_c {test.controller.fc_hz:g} Hz; {test.controller.precision} precision; seed {test.lab.seed}"
     )
+    if test.design_file is not None:
+        say(f"  controller: {doc['design_method']} design of {test.design_file}, run as designed")
     say(report_defaults_line(dict(test.from_report)))
     checks = ", ".join(check_text(c, units) for c in pre.input.checks)
     say(f"pre-test check of the input motion: {checks}: {'fits' if pre.input.ok else 'EXCEEDS'}")
@@ -335,6 +343,7 @@ def simulate(
     pga: float | None = PgaOpt,
     duration: float | None = DurationOpt,
     fc: float | None = FcOpt,
+    design: Path | None = DesignOpt,
     feedback: str | None = typer.Option(
         None,
         "--feedback",
@@ -368,6 +377,7 @@ def simulate(
             pga_g=pga,
             duration=duration,
             fc_hz=fc,
+            design=design,
             feedback=feedback,
             precision=precision,
             seed=seed,
@@ -392,6 +402,7 @@ def track(
     pga: float | None = PgaOpt,
     duration: float | None = DurationOpt,
     fc: float | None = FcOpt,
+    design: Path | None = DesignOpt,
     feedback: str | None = typer.Option(
         None,
         "--feedback",
@@ -423,6 +434,7 @@ def track(
             pga_g=pga,
             duration=duration,
             fc_hz=fc,
+            design=design,
             feedback=feedback,
             precision=precision,
             seed=seed,

@@ -24,14 +24,16 @@ from pathlib import Path
 from typing import Any, cast
 
 from ..config import quantity, read_toml
+from ..design import ControllerDesign
 from ..errors import ConfigError, DataFileError
+from ..implement.export import designed_vs
 from ..plant import TableParameters
 from ..plant.parameters import ratings_from_report, table_mapping
 from ..plausibility import check_specimen_weight
 from ..report_config import ReportConfig, report_config
 from ..signals.sources import scaled_motion
 from ..specimens import FluidVessel, RigidMass, specimen_from_config
-from ..virtual.files import resolve
+from ..virtual.files import VSSpec, resolve
 from .descriptions import (
     ControllerChoice,
     FrfTest,
@@ -41,6 +43,7 @@ from .descriptions import (
     SpecimenChoice,
     TrackingTest,
 )
+from .design_file import check_loop_time, read_design
 from .feedback import Feedback
 from .labfile import LabSetup, load_lab
 from .setup import SafetyLimits
@@ -85,6 +88,9 @@ class Choices:
         VS preset or file (MIL).
     vs_overrides : mapping
         Values of the VS.
+    design : Path or None
+        A design file to run as designed (:mod:`impedance_mil.lab.design_file`): its controller,
+        cut-off and (MIL) virtual system; ``fc_hz`` must then be left out.
     keys : mapping of str to str
         Name of each choice in error messages (default: the attribute name).
     """
@@ -106,6 +112,7 @@ class Choices:
     seed: int = 0
     vs: str | None = None
     vs_overrides: Mapping[str, Any] = field(default_factory=dict)
+    design: Path | None = None
     keys: Mapping[str, str] = field(default_factory=dict)
 
     def key(self, name: str) -> str:
@@ -328,6 +335,15 @@ def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any
     else:
         table = choose_table(None, choices.table_overrides, cfg, used)
         lab = report_lab(cfg, choices.seed, used, choices.key("seed"))
+    design = None
+    if choices.design is not None:
+        design = read_design(choices.design, "mil" if mil else "track", choices.key("design"))
+        check_loop_time(design, table, choices.key("design"))
+        if choices.fc_hz is not None:
+            raise ConfigError(
+                choices.key("fc_hz"), f"no cut-off with {choices.key('design')} (the design holds its own)"
+            )
+        choices = replace(choices, fc_hz=design.fc_hz)
     parts = dict(
         table=table,
         controller=choose_controller(choices, cfg, used, allow_none=not mil),
@@ -337,10 +353,47 @@ def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any
         from_report=used,
     )
     if mil:
-        name = _pick(choices.vs, cfg.vs_preset, "vs.preset", used)
         weight = article_weight(cast(SpecimenChoice, parts["specimen"]), cfg, used)
-        parts["vs_spec"] = resolve(name, choices.vs_overrides, weight)
+        if design is not None and design.vs is not None and choices.vs is None:
+            parts["vs_spec"] = vs_of_design(design, choices)
+        else:
+            name = _pick(choices.vs, cfg.vs_preset, "vs.preset", used)
+            spec = resolve(name, choices.vs_overrides, weight)
+            if design is not None:  # a VS asked for must be the designed one
+                vs_of_design(design, choices, spec)
+            parts["vs_spec"] = spec
+    if design is not None:
+        parts["given_design"] = design
+        parts["design_file"] = str(choices.design)
     return parts
+
+
+def vs_of_design(design: ControllerDesign, choices: Choices, requested: VSSpec | None = None) -> VSSpec:
+    """The designed virtual system, rebuilt from the design file (``requested`` must equal it).
+
+    Raises
+    ------
+    ConfigError
+        ``--set-vs`` with a design file (its VS is the designed one), or ``requested`` differs.
+    """
+    if choices.vs_overrides:
+        raise ConfigError(
+            choices.key("vs_overrides"),
+            f"no VS values with {choices.key('design')} (its VS is the designed one)",
+        )
+    if requested is None:
+        chosen = designed_vs(design)
+        return VSSpec(chosen.name, chosen.vs)
+    try:
+        designed_vs(design, requested.vs, requested.name)
+    except ConfigError:
+        name = (design.vs or {}).get("name") or (design.vs or {}).get("kind")
+        raise ConfigError(
+            choices.key("vs"),
+            f"the VS of {choices.key('design')}, {name} with its designed parameters (or leave --vs out)",
+            requested.name,
+        ) from None
+    return requested
 
 
 def tracking_test(choices: Choices, cfg: ReportConfig | None = None) -> TrackingTest:

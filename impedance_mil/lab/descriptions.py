@@ -39,6 +39,7 @@ from ..signals.multisine import report_multisine
 from ..specimens import FluidVessel
 from ..virtual.files import VSSpec
 from .clipping import clipped_channels
+from .design_file import table_differences
 from .experiments import (
     ControlledRun,
     FrfExperiment,
@@ -224,6 +225,11 @@ class TrackingTest:
     controller: ControllerChoice
     lab: LabChoice
     from_report: Mapping[str, Any] = field(compare=False)
+    #: A design file's controller to run as designed (``--design``, :mod:`impedance_mil.lab.design_file`);
+    #: None: the test designs its own at ``controller.fc_hz``.
+    given_design: ControllerDesign | None = field(default=None, kw_only=True, compare=False)
+    #: Where ``given_design`` was read from (the JSON's ``design_file``).
+    design_file: str | None = field(default=None, kw_only=True, compare=False)
 
     #: ``kind`` in the JSON and the run file; also the lab's run mode.
     kind: ClassVar[str] = "track"
@@ -249,6 +255,8 @@ class TrackingTest:
     @functools.cached_property
     def design(self) -> ControllerDesign:
         """The controller this test runs (designed once; its verdicts are checked before the run)."""
+        if self.given_design is not None:
+            return self.given_design
         return tracking_design(self.table, self.controller.fc_hz)
 
     def design_violations(self, required: tuple[str, ...] = REQUIRED_CONSTRAINTS) -> list[str]:
@@ -266,6 +274,13 @@ class TrackingTest:
         DesignRefused
             The design violates a required constraint and ``force`` is False.
         """
+        other_table = [] if self.given_design is None else table_differences(self.given_design, self.table)
+        if other_table and not force:
+            raise DesignRefused(
+                "--design: the design was made for another table ("
+                + "; ".join(other_table)
+                + ") -- use --force to run it on this one anyway"
+            )
         found = self.design_violations(required)
         if found and not force:
             raise DesignRefused(
@@ -273,7 +288,7 @@ class TrackingTest:
                 + " -- a real table would go unstable or wear its valve; use --force to run it anyway "
                 "(the interlocks will stop it), or --require to choose the constraints"
             )
-        return [f"{text}; running anyway (--force)" for text in found]
+        return [f"{text}; running anyway (--force)" for text in other_table + found]
 
     def _common(self) -> dict[str, Any]:
         return dict(
@@ -310,6 +325,8 @@ class TrackingTest:
             "feedback": self.controller.feedback.value,
             "precision": self.controller.precision,
             "seed": self.lab.seed,
+            "design_file": self.design_file,
+            "design_method": "filter" if self.design.optimization is None else "optimized",
             "from_report": dict(self.from_report),
         }
 
@@ -373,6 +390,8 @@ class MilTest(TrackingTest):
     @functools.cached_property
     def design(self) -> ControllerDesign:
         """The standardized controller of this test (open-f_h verdicts, see ``lab.experiments.mil_design``)."""
+        if self.given_design is not None:
+            return self.given_design
         return mil_design(self.table, self.vs, self.controller.fc_hz)
 
 

@@ -31,7 +31,8 @@ import numpy as np
 
 from ..design import ControllerDesign, design_controller, table_model, virtual_model
 from ..errors import ConfigError
-from ..implement import MILRuntime, discretize
+from ..implement import MILRuntime
+from ..implement.export import controller_from_design
 from ..plant import TableParameters
 from ..plant.nonlinear import NonlinearTable
 from ..report_config import report_config
@@ -278,8 +279,9 @@ def mil_design(params: TableParameters, vs, fc_hz: float | None = None) -> Contr
     )
 
 
-def _runtime(params, design, vs, fc_hz, precision, leak_hz):
-    controller = discretize(design.H_uz, design.H_uw, params.loop_time, fc_hz=fc_hz, leak_hz=leak_hz)
+def _runtime(params, design, vs, precision, leak_hz):
+    # export's discretization of the design, so that a run executes what `imil export` writes
+    controller = controller_from_design(design, loop_time_s=params.loop_time, leak_hz=leak_hz)
     return MILRuntime(controller, vs=vs, precision=precision)
 
 
@@ -383,7 +385,7 @@ def run_tracking(
     fc_hz, feedback, precision = _report_choices(fc_hz, feedback, precision)
     if design is None:
         design = tracking_design(params, fc_hz)
-    runtime = _runtime(params, design, None, fc_hz, precision, leak_hz)
+    runtime = _runtime(params, design, None, precision, leak_hz)
     if not compensate:
         runtime.m_w[...] = 0
     return _controlled(
@@ -439,7 +441,7 @@ def run_mil(
     fc_hz, feedback, precision = _report_choices(fc_hz, feedback, precision)
     if design is None:
         design = mil_design(params, vs, fc_hz)
-    runtime = _runtime(params, design, vs, fc_hz, precision, leak_hz)
+    runtime = _runtime(params, design, vs, precision, leak_hz)
     return _controlled(
         params,
         motion,

@@ -30,7 +30,7 @@ from impedance_mil.design.optimized import (
 from impedance_mil.design.optimized import problem as problem_module
 from impedance_mil.design.optimized.certify import certify, closed_velocity, path_state_space
 from impedance_mil.design.optimized.exchange import log_points
-from impedance_mil.errors import ConfigError, MissingDependencyError
+from impedance_mil.errors import ConfigError, DesignRefused, MissingDependencyError
 from impedance_mil.implement.discretize import discretize
 from impedance_mil.plant import LinearTable, TableParameters
 from impedance_mil.report_config import report_config
@@ -250,3 +250,17 @@ def test_filter_design_json_has_the_indices():
     # The 80 Hz design on the sampled-data table: less passive than the first-order model's -1.00 deg.
     assert c["passivity_margin_sampled_deg"] < c["passivity_margin_deg"]
     assert np.isfinite(c["passivity_index"])
+
+
+def test_simulate_runs_the_optimized_design_the_filter_design_cannot(designs, tmp_path):
+    # LR2 at 80 Hz: the filter design fails III (docs/design.md), so `simulate --vs LR2` refuses it;
+    # the optimized design passes I/II/III and runs from its design file as designed
+    _, d = designs["LR2"]
+    path = save_design(d, tmp_path / "lr2.json")
+    short = ["--duration", "2", "--json"]
+    refused = runner.invoke(app, ["simulate", "--vs", "LR2", "-o", str(tmp_path / "f.h5"), *short])
+    assert isinstance(refused.exception, DesignRefused) and "constraint III" in str(refused.exception)
+    res = runner.invoke(app, ["simulate", "--design", str(path), "-o", str(tmp_path / "o.h5"), *short])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.stdout)
+    assert doc["design_method"] == "optimized" and doc["vs"] == "LR2" and not doc["aborted"]
