@@ -35,7 +35,7 @@ from ..plant.tuning import pole_summary
 from ..report import table_plots
 from .common import UnitsOpt, console, field_lines, output_units
 from .runopts import CHOICE_OPTIONS, EXIT_INTERRUPTED, err_console, output_path, percent
-from .simulate import Outcome, check, perform, print_outcome, warn
+from .simulate import Outcome, check, notice_compiling, perform, print_outcome, warn
 
 #: Length of the motion with ``--quick`` [s] (the first seconds, strong shaking included).
 QUICK_DURATION_S = 6.0
@@ -107,6 +107,7 @@ def default_test(test, out: Path, units: UnitSystem = UnitSystem.US) -> Outcome:
     run_file = output_path("--out", out / "run.h5", overwrite=True)
     page = output_path("--out", out / "run.html", overwrite=True)
     outcome = Outcome(test)
+    notice_compiling()
     check(outcome, force=False)
     warn(outcome.warnings)
     perform(outcome, run_file, page, quiet=False, units=units)

@@ -46,6 +46,7 @@ from ..lab.descriptions import (
     parse_required,
 )
 from ..lab.experiments import ControlledRun
+from ..lab.first_run import COMPILING_NOTICE, kernels_need_compiling
 from ..lab.pretest import Pretest
 from ..lab.results import RUN_FILE_SUFFIXES
 from ..lab.runfile import MODEL_LOOP, trip_text, write_run_file
@@ -300,6 +301,7 @@ def run_command(
         raise ConfigError("--report", "a path other than the run file (-o)", str(report))
     required = parse_required(require)
     outcome = Outcome(test)
+    notice_compiling()
     check(outcome, force=force, required=required)
     warn(outcome.warnings)
     try:
@@ -572,8 +574,15 @@ def frf(
         raise typer.Exit(EXIT_ABORTED)
 
 
+def notice_compiling() -> None:
+    """Say on stderr, before a run that compiles the lab's kernels, that it will (first run only)."""
+    if kernels_need_compiling():
+        err_console.print(f"imil: {COMPILING_NOTICE}", markup=False)
+
+
 def run_frf_test(test: FrfTest, out: Path, *, quiet: bool) -> dict:
     """Run the FRF test with progress on stderr and write its run file; return its summary."""
+    notice_compiling()
     with activity(not quiet, "frf: multisine test and identification", total=1 + len(test.kp_values)) as step:
         outcome = test.run(on_step=lambda text: step(text, advance=1))
         step(f"writing {out}", advance=1)
