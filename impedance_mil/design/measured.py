@@ -460,9 +460,16 @@ def design_measured_checks(
     Raises
     ------
     ConfigError
-        The FRF's loop time is not the design's (key ``loop_time``), or an unknown ``tolerance``.
+        The FRF's loop time is not the design's (key ``loop_time``), a design
+        made for a VS given without ``vs`` (key ``vs``), or an unknown
+        ``tolerance`` or ``controller_model``.
     """
     check_loop_time(frf, design.loop_time_s)
+    if vs is None and design.vs is not None and design.form != "tracking":
+        name = design.vs.get("name") or design.vs.get("kind")
+        raise ConfigError(
+            "vs", f"the VS model of the design ({name}); without it the checks would be tracking's"
+        )
     if not design.constraints:
         raise ConfigError("constraints", "a design with its constraints evaluated")
     kw: dict[str, Any] = dict(

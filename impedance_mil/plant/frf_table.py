@@ -248,7 +248,10 @@ def _path_scales(units: Any) -> dict[str, float]:
         text = units.get(signal)
         if not isinstance(text, str) or not text.strip() or text.strip()[0].isdigit():
             raise ConfigError(key, f"a unit with the dimension of {internal} (e.g. a pint unit name)", text)
-        factor[signal] = quantity(key, f"1 {text}", internal, "positive")
+        try:
+            factor[signal] = quantity(key, f"1 {text}", internal, "positive")
+        except ConfigError as exc:  # echo the unit as written, not the "1 <unit>" read
+            raise ConfigError(key, exc.expected, text) from None
     return {name: factor[out] / factor[inp] for name, (out, inp) in PATHS.items()}
 
 
