@@ -329,12 +329,13 @@ def measured_checks(
     perf, perf_hz, holds_I = None, None, None
     mask_I = frf.in_band(c.band_hz)
     if cov_I.covered_hz is not None:
-        ratio = controlled(mask_I) / (
-            frf.H_zw[mask_I] if reference is None else reference.frequency_response(frf.frequency_hz[mask_I])
-        )
-        err = np.abs(ratio) if reference is None else np.abs(ratio - 1.0)
+        f_I = frf.frequency_hz[mask_I]
+        if reference is None:  # tracking: the share of the measured H_zw left uncompensated
+            err = np.abs(controlled(mask_I) / frf.H_zw[mask_I])
+        else:
+            err = np.abs(controlled(mask_I) / reference.frequency_response(f_I) - 1.0)
         i = int(np.argmax(err))
-        perf, perf_hz = float(err[i]), float(frf.frequency_hz[mask_I][i])
+        perf, perf_hz = float(err[i]), float(f_I[i])
         holds_I = perf <= c.performance_max
 
     band_III = (c.passivity_low_hz, frf.nyquist_hz)
