@@ -32,9 +32,11 @@ from ..design.feasibility import FcScan, choose_fc, mass_ratio_study, scan_fc
 from ..design.filters import FAMILIES, check_order, check_ripple
 from ..design.forms import FORMS, TableModel, VirtualModel
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
+from ..design.measured import CONTROLLER_MODELS, TOLERANCES, check_loop_time, design_measured_checks
 from ..design.optimized import OptimizationSettings, design_optimized, with_indices
 from ..display import UnitSystem
 from ..errors import ConfigError
+from ..plant.frf_table import FRFTable, read_frf_table
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
 from ..report_config import report_config
@@ -161,6 +163,21 @@ def design(
     grid: int = typer.Option(
         OptimizationSettings().check_per_decade, "--grid", help="Optimized: dense check grid [points/decade]."
     ),
+    frf: Path | None = typer.Option(
+        None,
+        "--frf",
+        help='Measured-FRF table file (TOML, [model] kind = "frf"): also check I, III on the data, model-free.',
+    ),
+    frf_tolerance: str = typer.Option(
+        "none",
+        "--frf-tolerance",
+        help="Passivity tolerance on the FRF: none (a measurement has no delay-model error) | delay-model.",
+    ),
+    frf_controller: str = typer.Option(
+        "continuous",
+        "--frf-controller",
+        help="Controller response on the FRF: continuous (as designed) | tustin (as implemented).",
+    ),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
     plots: Path | None = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
     output: Path | None = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
@@ -204,6 +221,8 @@ def design(
     ratios = _parse_list("--mass-ratios", mass_ratios)
     params = table_parameters(table, sets, lab)
     tm = table_model(params)
+    measured_frf = _read_frf(frf, frf_tolerance, frf_controller, tm.loop_time_s)
+    frf_kw: dict[str, Any] = dict(tolerance=frf_tolerance, controller_model=frf_controller, criteria=criteria)
     spec = None
     if vs is not None and form != "tracking":
         spec = resolve(vs, parse_overrides(sets_vs, option="--set-vs"))
@@ -223,15 +242,18 @@ def design(
         if fcs is None:
             raise ConfigError("--fc", "a reference cut-off in Hz for --method optimized (not auto)", fc)
         result = _optimized(params, spec, lin, vm, fcs[0], criteria, settings, amplitudes)
+        measured = _measured_checks(result, measured_frf, None, vm, frf_kw)
         if output is not None:
             save_design(result, output)
         doc = result.to_json()
         doc["from_report"] = from_report
         doc["vs_linearization"] = vm.equivalent.to_dict() if vm.equivalent is not None else None
+        if measured:
+            doc["measured"] = _measured_doc(frf, measured)
         if json_out:
             print_json(doc, shown)
         else:
-            _print_human(result, [], [], [output] if output is not None else [])
+            _print_human(result, [], [], [output] if output is not None else [], measured)
         return
     kw: dict[str, Any] = dict(form=form, family=family, order=order, criteria=criteria)
     with option_errors(DESIGN_OPTIONS):
@@ -252,6 +274,7 @@ def design(
             **kw,
         )
     result = with_indices(result, params, vm, criteria, warn=False)
+    measured = _measured_checks(result, measured_frf, tm, vm, frf_kw)
     study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []
     written = (
         []
@@ -268,10 +291,39 @@ def design(
     )
     if study:
         doc["mass_ratio_study"] = study
+    if measured:
+        doc["measured"] = _measured_doc(frf, measured)
     if json_out:
         print_json(doc, shown)
         return
-    _print_human(result, reasons, study, written)
+    _print_human(result, reasons, study, written, measured)
+
+
+def _read_frf(path: Path | None, tolerance: str, controller: str, loop_time_s: float) -> FRFTable | None:
+    """The FRF table of ``--frf`` (None without it), its options checked and its loop time the table's [s]."""
+    if tolerance not in TOLERANCES:
+        raise ConfigError("--frf-tolerance", " or ".join(TOLERANCES), tolerance)
+    if controller not in CONTROLLER_MODELS:
+        raise ConfigError("--frf-controller", " or ".join(CONTROLLER_MODELS), controller)
+    if path is None:
+        return None
+    frf = read_frf_table(path)
+    with option_errors({"loop_time": "--frf"}):
+        check_loop_time(frf, loop_time_s)
+    return frf
+
+
+def _measured_checks(result, frf: FRFTable | None, tm: TableModel | None, vm, kw: dict[str, Any]) -> tuple:
+    """Each cut-off of ``result`` on the measured FRF (the first only without ``tm``); () without ``--frf``."""
+    if frf is None:
+        return ()
+    with option_errors({"loop_time": "--frf"}):
+        return design_measured_checks(result, frf, table=tm, vs=vm, **kw)
+
+
+def _measured_doc(path: Path | None, checks: tuple) -> dict[str, Any]:
+    """The ``measured`` block of the JSON: the FRF table file and one entry per cut-off."""
+    return {"frf_table": str(path), "constraints": [c.to_dict() for c in checks]}
 
 
 #: The options of the optimized design's settings (OptimizationSettings' keys).
@@ -366,7 +418,7 @@ def _write_plots(
     ]
 
 
-def _print_human(result, reasons, study, written) -> None:
+def _print_human(result, reasons, study, written, measured=()) -> None:
     console.print(
         f"[bold]{result.form}[/] controller, fc = {result.fc_hz:.4g} Hz, {result.filter.family} "
         f"filters of order {result.filter.order_z} (z) / {result.filter.order_w} (w); "
@@ -399,6 +451,9 @@ def _print_human(result, reasons, study, written) -> None:
                 f"{c['specimen']}: {c['stable']} (zeta {c['hf_damping_ratio']:.3f})" for c in row["coupled"]
             )
         )
+    for checks in measured:
+        for line in checks.lines():
+            console.print(line, markup=False, highlight=False)
     for text in result.warnings:
         console.print(f"[yellow]warning:[/] {text}")
     for path in written:
