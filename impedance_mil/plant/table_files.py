@@ -1,4 +1,11 @@
-"""Writing identified tables as files that ``--table`` reads back.
+"""Table files: reading either kind (:func:`read_table_file`), and writing identified tables.
+
+A table file is either physical (``[table]`` keys, or the keys at the top
+level: :class:`~impedance_mil.plant.parameters.TableParameters`) or an LTI
+table (a ``[model]`` section: :class:`~impedance_mil.plant.lti_table.LTITable`).
+:func:`read_table_file` reads either; :data:`TableDefinition` is the union.
+
+Writing:
 
 * :func:`physical_table_toml`: a physical table file (the keys of
   :data:`impedance_mil.plant.parameters.FIELDS`, each value with its unit, full
@@ -6,18 +13,74 @@
 * :func:`transfer_function_toml`: a transfer-function table in the layout of
   issue 13 (``[model] kind = "transfer-function"``, ``H_zu = { num, den }`` in
   descending powers of s [rad/s], ``units``, ``delay = "included"``,
-  ``loop_time``).  The toolkit reads such a file once LTI tables exist
-  (issue 13); until then it documents the identified model.
+  ``loop_time``), read back by :func:`read_table_file`.
 
 Both start with comment lines saying where the values came from.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
 
-from .parameters import FIELDS, TableParameters
+from ..config import read_toml
+from ..errors import ConfigError
+from .lti_reader import lti_table_from_mapping
+from .lti_table import LTITable
+from .parameters import FIELDS, TableParameters, merge_overrides, table_mapping
 from .rational import RationalFit
+
+#: What a table file holds: the physical parameters, or a linear model.
+TableDefinition = TableParameters | LTITable
+
+
+def is_lti_table_data(data: Mapping[str, Any]) -> bool:
+    """Whether a parsed table file is an LTI table (it has a ``[model]`` section)."""
+    return "model" in data
+
+
+def is_lti_table_file(path: str | Path) -> bool:
+    """Whether the table file at ``path`` is an LTI table (DataFileError if unreadable)."""
+    return is_lti_table_data(read_toml(path))
+
+
+def read_table_file(path: str | Path, overrides: Mapping[str, Any] | None = None) -> TableDefinition:
+    """The table of a file: :class:`TableParameters` for a physical file, :class:`LTITable` for ``[model]``.
+
+    ``overrides`` (``--set``) apply to a physical table only.
+
+    Raises
+    ------
+    ConfigError
+        A key of the file (named), or overrides given for an LTI table
+        (``--set``: it has no physical keys).
+    DataFileError
+        The file is missing or not TOML.
+    """
+    path = Path(path)
+    data = read_toml(path)
+    if not is_lti_table_data(data):
+        return TableParameters.from_mapping(merge_overrides(table_mapping(data, path), overrides or {}))
+    if overrides:
+        raise ConfigError(
+            "--set",
+            f"no overrides for the LTI table {path.name} ([model]: it has no physical keys)",
+            ", ".join(overrides),
+        )
+    where = f"{path.name}: "
+    extra = sorted(set(data) - {"model"})
+    if extra:
+        raise ConfigError(f"{where}{extra[0]}", "only a [model] section in an LTI table file")
+    return lti_table_from_mapping(data["model"], where)
+
+
+def read_lti_table(path: str | Path) -> LTITable:
+    """Read an LTI table file (:mod:`impedance_mil.plant.lti_table`); a physical file is refused naming it."""
+    table = read_table_file(path)
+    if not isinstance(table, LTITable):
+        raise ConfigError(str(path), "an LTI table file (a [model] section)", "a physical table file")
+    return table
 
 
 def _comment(lines: Sequence[str]) -> str:
