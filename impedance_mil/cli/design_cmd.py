@@ -35,6 +35,8 @@ from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..design.optimized import OptimizationSettings, design_optimized, with_indices
 from ..display import UnitSystem
 from ..errors import ConfigError
+from ..plant import TableParameters
+from ..plant.lti_table import LTITable
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
 from ..report_config import report_config
@@ -48,7 +50,7 @@ from .common import (
     output_units,
     positive_numbers,
     print_json,
-    table_parameters,
+    table_definition,
 )
 
 _DESIGN = report_config().design
@@ -202,7 +204,7 @@ def design(
     with option_errors(CRITERIA_OPTIONS):
         criteria = DesignCriteria(**{k: v for k, v in criteria_given.items() if v is not None})
     ratios = _parse_list("--mass-ratios", mass_ratios)
-    params = table_parameters(table, sets, lab)
+    params = table_definition(table, sets, lab)  # physical, or an LTI table ([model])
     tm = table_model(params)
     spec = None
     if vs is not None and form != "tracking":
@@ -216,6 +218,12 @@ def design(
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
     if method == "optimized":
+        if isinstance(params, LTITable):
+            raise ConfigError(
+                "--method",
+                "filter for an LTI table (optimized needs the physical table's sampled-data model)",
+                method,
+            )
         if vm is None or form != "standardized":
             raise ConfigError("--method", "a VS (--vs) and the standardized form for the optimized design")
         if spec is None:
@@ -251,7 +259,8 @@ def design(
             emit_warnings=False,
             **kw,
         )
-    result = with_indices(result, params, vm, criteria, warn=False)
+    if isinstance(params, TableParameters):  # the sampled-data indices need the physical table
+        result = with_indices(result, params, vm, criteria, warn=False)
     study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []
     written = (
         []
@@ -261,6 +270,11 @@ def design(
     if output is not None:
         written.append(save_design(result, output))
     doc = result.to_json()
+    doc["zpk"] = {
+        name: H.to_zpk()
+        for name, H in (("H_uz", result.H_uz), ("H_uw", result.H_uw), ("H_ufh", result.H_ufh))
+        if H is not None
+    }
     doc["fc_choice_reasons"] = reasons
     doc["from_report"] = from_report
     doc["vs_linearization"] = (
