@@ -26,6 +26,7 @@ from typing import Any
 
 from ..config import read_toml
 from ..errors import ConfigError
+from ..systems import CANCEL_RTOL, TransferFunction
 from .lti_reader import lti_table_from_mapping
 from .lti_table import LTITable
 from .parameters import FIELDS, TableParameters, merge_overrides, table_mapping
@@ -141,3 +142,70 @@ def transfer_function_toml(
         + f"units = {{ {unit_text} }}\n"
         + f"H_{output}{input} = {{ num = {_array(fit.num)}, den = {_array(fit.den)} }}\n"
     )
+
+
+#: Internal unit of each signal as written in a table file's ``units``.
+_FILE_UNITS = {"u": "in", "w": "lbf", "z": "in/s**2", "x": "in", "v": "in/s", "dp": "psi"}
+
+
+def _pairs(roots) -> str:
+    items = [repr(float(r.real)) if r.imag == 0 else f"[{float(r.real)!r}, {float(r.imag)!r}]" for r in roots]
+    return "[" + ", ".join(items) + "]"
+
+
+def lti_table_toml(table: LTITable, kind: str | None = None, header: Sequence[str] = ()) -> str:
+    """The text of an LTI table file holding ``table`` (internal units), read back by :func:`read_table_file`.
+
+    Parameters
+    ----------
+    table : LTITable
+    kind : str, optional
+        ``"state-space"`` (the model's matrices), ``"transfer-function"`` or
+        ``"zpk"`` (every path of the model, round-off safe); default the table's kind.
+        The paths written are of the file's model (no delay added): the
+        delay treatment is written as ``delay``.
+    """
+    kind = table.kind if kind is None else kind
+    sys = table.state_space().system
+    names = list(dict.fromkeys(["u", "w", *sys.outputs]))
+    lines = [
+        "[model]",
+        f"kind = {kind!r}".replace("'", '"'),
+        f'loop_time = "{table.loop_time!r} s"',
+        f'delay = "{table.delay}"',
+        "units = { " + ", ".join(f'{k} = "{_FILE_UNITS[k]}"' for k in names) + " }",
+    ]
+    if table.allow_unstable:
+        lines.append("allow_unstable = true")
+    if table.delay == "pade":
+        lines.append(f"pade_order = {int(table.pade_order)}")
+    if kind == "state-space":
+        lines += [
+            'inputs = ["u", "w"]',
+            "outputs = [" + ", ".join(f'"{o}"' for o in sys.outputs) + "]",
+            *(f"{m} = [" + ", ".join(_array(r) for r in getattr(sys, m)) + "]" for m in "ABCD"),
+        ]
+    else:
+        for o in sys.outputs:
+            for i in ("u", "w"):
+                H = TransferFunction.from_lti(sys.reachable(i).channel(o, i), cancel_rtol=CANCEL_RTOL)
+                if H.is_zero:
+                    continue
+                if kind == "transfer-function":
+                    lines.append(f"H_{o}{i} = {{ num = {_array(H.num)}, den = {_array(H.den)} }}")
+                else:
+                    lines.append(
+                        f"H_{o}{i} = {{ zeros = {_pairs(_conjugate(H.zeros()))}, "
+                        f"poles = {_pairs(_conjugate(H.poles()))}, gain = {float(H.num[0])!r} }}"
+                    )
+    return _comment(header) + "\n".join(lines) + "\n"
+
+
+def _conjugate(roots) -> list[complex]:
+    """Roots with the conjugate of each complex one exactly mirrored (as a zpk file requires)."""
+    out = []
+    upper = [r for r in roots if r.imag > 0]
+    out += [complex(r.real, 0.0) for r in roots if r.imag == 0]
+    for r in upper:
+        out += [r, r.conjugate()]
+    return out
