@@ -182,11 +182,11 @@ def tf(
     delay = _delay(delay, p)
     with option_errors({"output": "--output", "input": "--input"}):
         if isinstance(p, LTITable):
-            H = p.tf(output, input)  # continuous: "sampled" designs with the first-order lag
+            data = p.tf(output, input).to_dict()  # continuous: "sampled" designs with the first-order lag
         else:
             tbl = LinearTable(p, delay=delay, pade_order=pade_order)
             H = tbl.sampled().tf(output, input) if delay == "sampled" else tbl.tf(output, input)
-    data = H.to_dict()
+            data = H.to_dict()
     if json:
         print_json(data, output_units(units, lab, table))
         return

@@ -115,10 +115,10 @@ def _roots(value: Any, key: str) -> np.ndarray:
     roots = []
     for item in value:
         if isinstance(item, list):
-            re, im = _numbers(item, key, "a complex root as [re, im]") if len(item) == 2 else (None, None)
-            if re is None:
+            if len(item) != 2:
                 raise ConfigError(key, "a complex root as a pair [re, im]", item)
-            roots.append(complex(re, im))
+            re, im = _numbers(item, key, "a complex root as [re, im]")
+            roots.append(complex(float(re), float(im)))
         else:
             roots.append(complex(_numbers([item], key, "a real root")[0]))
     remaining = [r for r in roots if r.imag != 0]
