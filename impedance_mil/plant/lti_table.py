@@ -127,7 +127,7 @@ class LTITable:
     ...                  inputs=("u", "w"), outputs=("z",))
     >>> table = LTITable(TableStateSpace(sys), 5e-4, "first-order", "state-space")
     >>> table.tf("z", "u").relative_degree, round(table.dcgain("z", "w"), 12)
-    (1, 0.125)
+    (1, -0.25)
     """
 
     model: TableStateSpace
