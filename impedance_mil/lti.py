@@ -208,6 +208,38 @@ class StateSpace:
             self.states,
         )
 
+    def reachable(self, input: str) -> StateSpace:
+        """The states structurally reachable from the input named ``input``, with every input and output.
+
+        A state is kept when a chain of nonzero entries of ``B[:, j]`` and
+        ``A`` leads to it from input j; the others are removed by deleting
+        their rows and columns (exact: no similarity, so structural zeros and
+        the Markov parameters stay exact).  The response from ``input`` is
+        unchanged.  For a model realized input by input (the
+        transfer-function tables of :mod:`impedance_mil.plant.lti_table`)
+        this is the part of that input, without the other inputs' copies of
+        shared poles.
+        """
+        j = self.input_index(input)
+        pattern = self.A != 0
+        keep = self.B[:, j] != 0
+        while True:
+            grown = keep | pattern[:, keep].any(axis=1)
+            if (grown == keep).all():
+                break
+            keep = grown
+        idx = np.flatnonzero(keep)
+        return StateSpace(
+            self.A[np.ix_(idx, idx)],
+            self.B[idx, :],
+            self.C[:, idx],
+            self.D,
+            self.dt,
+            self.inputs,
+            self.outputs,
+            tuple(self.states[i] for i in idx),
+        )
+
     # -------------------------------------------------------------- evaluate
     def evaluate(self, points) -> np.ndarray:
         """``C (pI - A)^-1 B + D`` at complex points p (s [rad/s] or z), by a linear solve per point.

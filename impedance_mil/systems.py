@@ -398,6 +398,25 @@ class TransferFunction:
         """``{"num": [...], "den": [...]}`` in descending powers of s."""
         return {"num": [float(c) for c in self.num], "den": [float(c) for c in self.den]}
 
+    def to_zpk(self) -> dict:
+        """``{"zeros": [[re, im], ...], "poles": [[re, im], ...], "gain": k}``: roots [rad/s], sorted by size.
+
+        ``H = k prod(s - z_i) / prod(s - p_i)`` (the gain of the monic factors,
+        ``num[0]/den[0]``; 0 for the zero function, with no zeros); the layout
+        of a zpk table file (:mod:`impedance_mil.plant.lti_table`) and of the
+        optimized design's ``zpk``.
+        """
+
+        def pairs(roots) -> list[list[float]]:
+            return [[float(r.real), float(r.imag)] for r in sorted(np.asarray(roots, complex), key=abs)]
+
+        gain = 0.0 if self.is_zero else float(self.num[0] / self.den[0])
+        return {
+            "zeros": [] if self.is_zero else pairs(self.zeros()),
+            "poles": pairs(self.poles()),
+            "gain": gain,
+        }
+
     def __repr__(self) -> str:
         return f"TransferFunction(num={self.num.tolist()}, den={self.den.tolist()})"
 

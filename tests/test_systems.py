@@ -1,8 +1,10 @@
 """Tests of the transfer-function value object (impedance_mil.systems)."""
 
+import control
 import numpy as np
 import pytest
 
+from impedance_mil.plant import LinearTable, TableParameters
 from impedance_mil.systems import TransferFunction, pole_table
 
 TWO_PI = 2 * np.pi
@@ -128,3 +130,39 @@ def test_from_ss_drops_rounding_residue_in_numerator():
     A = [[0.0, 1.0], [-4.0, -0.4]]
     H = TransferFunction.from_ss(A, [0.0, 1.0], [1.0, 0.0])
     assert H.relative_degree == 2
+
+
+def test_report_table_state_space_to_tf_keeps_relative_degree_and_dc_gain_exact():
+    # Issue 13: from_ss once left round-off in the polynomials ("H_zw is improper (relative
+    # degree -1)").  The report's table (Eq 4-14a) as a state space, in its own basis, through
+    # python-control and in an exactly rescaled and permuted basis (powers of 2: no rounding
+    # in the similarity): every path keeps the relative degree of Eq 4-15 and its DC gain
+    # exactly (0.0 where z has s**2; x/u = 1 to rounding, 2e-15 measured).
+    ss = LinearTable(TableParameters.report_default()).state_space().system
+    perm = np.array([3, 0, 4, 2, 1])
+    scale = 2.0 ** np.array([-3, 5, -7, 2, 9])
+    T = np.diag(scale)[:, perm]
+    Ti = np.linalg.inv(T)  # exact: a scaled permutation
+    expected = {("z", "u"): (3, 0.0), ("z", "w"): (0, 0.0), ("v", "u"): (4, 0.0), ("v", "w"): (1, 0.0)}
+    for (o, i), (degree, gain) in expected.items():
+        c = ss.channel(o, i)
+        for H in (
+            TransferFunction.from_ss(c.A, c.B, c.C, c.D),
+            TransferFunction.from_control(control.ss(c.A, c.B, c.C, c.D)),
+            TransferFunction.from_ss(Ti @ c.A @ T, Ti @ c.B, c.C @ T, c.D),
+        ):
+            assert H.relative_degree == degree and H.dcgain() == gain
+    for realization in ((ss.A, ss.B, ss.C), (Ti @ ss.A @ T, Ti @ ss.B, ss.C @ T)):
+        A, B, C = realization
+        H = TransferFunction.from_ss(A, B[:, :1], C[ss.outputs.index("x")], 0.0)
+        assert H.relative_degree == 5 and H.dcgain() == pytest.approx(1.0, rel=1e-14)
+        Hw = TransferFunction.from_ss(A, B[:, 1:], C[ss.outputs.index("x")], 0.0)
+        assert Hw.relative_degree == 2 and Hw.is_proper
+
+
+def test_to_zpk_gives_the_roots_and_monic_gain():
+    H = TransferFunction.from_zpk([-1.0], [-2.0 + 3j, -2.0 - 3j], 5.0)
+    doc = H.to_zpk()
+    assert doc["gain"] == 5.0 and doc["zeros"] == [[-1.0, 0.0]]
+    np.testing.assert_allclose(sorted(p[1] for p in doc["poles"]), [-3.0, 3.0], rtol=1e-14)
+    assert TransferFunction.constant(0.0).to_zpk() == {"zeros": [], "poles": [], "gain": 0.0}

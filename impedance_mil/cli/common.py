@@ -18,6 +18,7 @@ from ..errors import ConfigError
 from ..fileio import json_safe
 from ..lab.labfile import LabSetup, article_weight, load_lab
 from ..plant import TableParameters, default_table_path
+from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
 from ..report.documents import TF_COEFFICIENTS, express
 
 #: Console for human-readable output (stdout).
@@ -60,6 +61,8 @@ def output_units(units: str | None, lab: str | None = None, table: Path | None =
     """``--units``, else the ``units`` of ``--lab``/``--table`` (a lab file may say ``units = "si"``), else us."""
     if units is not None:
         return unit_system(units)
+    if lab is None and table is not None and is_lti_table_file(table):
+        return UnitSystem.US  # an LTI table file has no lab keys
     if lab is not None or table is not None:
         return load_lab(lab, table=table).units
     return UnitSystem.US
@@ -79,6 +82,21 @@ def option_errors(options: Mapping[str, str]) -> Iterator[None]:
         raise ConfigError(options[exc.key], exc.expected, exc.got) from None
 
 
+def table_definition(
+    table: Path | None,
+    sets: list[str] | None = None,
+    lab: str | None = None,
+) -> TableDefinition:
+    """``--table`` as either kind of table (an LTI table file gives :class:`LTITable`), else :func:`table_parameters`.
+
+    For the commands that take a linear model of any kind (``imil table poles|tf|info|bode``,
+    ``imil design``); ``--set`` is refused for an LTI table, and ``--lab`` with ``--table``.
+    """
+    if table is not None and lab is None and is_lti_table_file(table):
+        return read_table_file(table, parse_overrides(sets))
+    return table_parameters(table, sets, lab)
+
+
 def table_parameters(
     table: Path | None,
     sets: list[str] | None = None,
@@ -87,7 +105,8 @@ def table_parameters(
     """``--table`` or the table of ``--lab`` (default the report's Table 4.1) with ``--set`` overrides.
 
     Errors name the key or file; a lab's controller loop time, output delay and valve command
-    apply to its table.
+    apply to its table.  An LTI table file is refused naming ``--table`` (the command needs
+    the physical parameters; :func:`table_definition` takes either).
     """
     if lab is not None or table is not None:
         return load_lab(lab, table=table, overrides=parse_overrides(sets)).table

@@ -36,7 +36,9 @@ from ..design.measured import CONTROLLER_MODELS, TOLERANCES, check_loop_time, de
 from ..design.optimized import OptimizationSettings, design_optimized, with_indices
 from ..display import UnitSystem
 from ..errors import ConfigError
+from ..plant import TableParameters
 from ..plant.frf_table import FRFTable, read_frf_table
+from ..plant.lti_table import LTITable
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
 from ..report_config import report_config
@@ -50,7 +52,7 @@ from .common import (
     output_units,
     positive_numbers,
     print_json,
-    table_parameters,
+    table_definition,
 )
 
 _DESIGN = report_config().design
@@ -219,7 +221,7 @@ def design(
     with option_errors(CRITERIA_OPTIONS):
         criteria = DesignCriteria(**{k: v for k, v in criteria_given.items() if v is not None})
     ratios = _parse_list("--mass-ratios", mass_ratios)
-    params = table_parameters(table, sets, lab)
+    params = table_definition(table, sets, lab)  # physical, or an LTI table ([model])
     tm = table_model(params)
     measured_frf = _read_frf(frf, frf_tolerance, frf_controller, tm.loop_time_s)
     frf_kw: dict[str, Any] = dict(tolerance=frf_tolerance, controller_model=frf_controller, criteria=criteria)
@@ -235,6 +237,12 @@ def design(
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
     if method == "optimized":
+        if isinstance(params, LTITable):
+            raise ConfigError(
+                "--method",
+                "filter for an LTI table (optimized needs the physical table's sampled-data model)",
+                method,
+            )
         if vm is None or form != "standardized":
             raise ConfigError("--method", "a VS (--vs) and the standardized form for the optimized design")
         if spec is None:
@@ -273,7 +281,8 @@ def design(
             emit_warnings=False,
             **kw,
         )
-    result = with_indices(result, params, vm, criteria, warn=False)
+    if isinstance(params, TableParameters):  # the sampled-data indices need the physical table
+        result = with_indices(result, params, vm, criteria, warn=False)
     measured = _measured_checks(result, measured_frf, tm, vm, frf_kw)
     study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []
     written = (
@@ -284,6 +293,11 @@ def design(
     if output is not None:
         written.append(save_design(result, output))
     doc = result.to_json()
+    doc["zpk"] = {
+        name: H.to_zpk()
+        for name, H in (("H_uz", result.H_uz), ("H_uw", result.H_uw), ("H_ufh", result.H_ufh))
+        if H is not None
+    }
     doc["fc_choice_reasons"] = reasons
     doc["from_report"] = from_report
     doc["vs_linearization"] = (

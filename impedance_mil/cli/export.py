@@ -38,7 +38,7 @@ from ..implement.safety import command_limits
 from ..lab.labfile import load_lab
 from ..report_config import report_config
 from ..virtual.files import resolve
-from .common import LabOpt, console, table_parameters
+from .common import LabOpt, console, table_definition
 
 
 def _design(design_file, table, vs, fc, lab=None):
@@ -51,7 +51,7 @@ def _design(design_file, table, vs, fc, lab=None):
     spec = resolve(vs) if vs else None
     vm = virtual_model(spec.vs, spec.name) if spec is not None else None
     return design_controller(
-        table_model(table_parameters(table, None, lab)),
+        table_model(table_definition(table, None, lab)),
         vm,
         fc_hz=fc,
         emit_warnings=False,

@@ -3,6 +3,12 @@
 Every command takes ``--table FILE`` (default: the report's Table 4.1, as
 corrected in docs/errata.md), repeated ``--set KEY=VALUE`` overrides (bare
 numbers in report units, or quantities with units) and ``--json``.
+
+``info``, ``poles``, ``tf`` and ``bode`` also take an LTI table file
+(``[model] kind = "transfer-function" | "zpk" | "state-space"``,
+:mod:`impedance_mil.plant.lti_table`), with its own delay treatment (``--delay``
+and ``--set`` are refused for it); ``rlocus`` and ``tune`` need the physical
+parameters and refuse it naming ``--table``.
 """
 
 from __future__ import annotations
@@ -12,12 +18,25 @@ from pathlib import Path
 import typer
 
 from ..display import UnitSystem
+from ..errors import ConfigError
 from ..plant import LinearTable, TableParameters
+from ..plant.lti_table import LTITable
 from ..plant.tuning import pole_summary, tuning_summary
 from ..report import table_plots
 from ..report.motion_plots import check_figure_path
 from ..report_config import report_config
-from .common import LabOpt, UnitsOpt, console, output_units, print_fields, print_json, table_parameters
+from ..systems import pole_table
+from .common import (
+    LabOpt,
+    UnitsOpt,
+    console,
+    option_errors,
+    output_units,
+    print_fields,
+    print_json,
+    table_definition,
+    table_parameters,
+)
 
 _REPORT = report_config()
 
@@ -28,13 +47,55 @@ app = typer.Typer(
 TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default: report Table 4.1.")
 SetOpt = typer.Option(None, "--set", help="Override KEY=VALUE (repeatable), e.g. Ke=4 or 'mass=1600 lb'.")
 JsonOpt = typer.Option(False, "--json", help="Print JSON.")
-DelayOpt = typer.Option("first-order", "--delay", help="Loop-time delay: none, first-order, pade, sampled.")
+DelayOpt = typer.Option(
+    None,
+    "--delay",
+    help="Loop-time delay: none, first-order (default), pade, sampled; an LTI table ([model]) states its own.",
+)
 PadeOpt = typer.Option(6, "--pade-order", help="Order of the Pade approximation.")
 
 
 def _say(text: str) -> None:
     """Print plain text (no rich markup: units like [rad/s] are kept)."""
     console.print(text, markup=False)
+
+
+def _delay(delay: str | None, table: TableParameters | LTITable) -> str:
+    """``--delay`` for a physical table (default first-order); an LTI table's own (``--delay`` refused)."""
+    if isinstance(table, LTITable):
+        if delay is not None:
+            raise ConfigError(
+                "--delay",
+                f"no --delay for an LTI table (its [model] delay = {table.delay!r} states it)",
+                delay,
+            )
+        return table.delay
+    return "first-order" if delay is None else delay
+
+
+def _lti_info(t: LTITable, as_json: bool, shown: UnitSystem) -> None:
+    data = t.summary()
+    if as_json:
+        print_json(data, shown)
+        return
+    _say(f"LTI table: {t.kind}, loop time {t.loop_time * 1e6:g} us, delay: {t.delay}")
+    _say(
+        f"outputs: {', '.join(t.outputs)}   stable: {'yes' if data['stable'] else 'NO'}   "
+        f"force path (H_zw): {'yes' if data['force_path'] else 'NONE'}"
+    )
+    _pole_lines(data["poles"])
+    _say("DC gains (internal units: in, lbf, in/s^2, in/s, psi):")
+    for name, value in data["dc_gains"].items():
+        _say(f"  {name:6s} {value:.6g}")
+
+
+def _pole_lines(rows: list[dict]) -> None:
+    _say(f"{'pole':5s} {'f [Hz]':>9s} {'zeta':>8s} {'real [rad/s]':>14s} {'imag [rad/s]':>14s}")
+    for row in rows:
+        _say(
+            f"{row.get('label', ''):5s} {row['frequency_hz']:9.2f} {row['damping']:8.3f} "
+            f"{row['real']:14.2f} {row['imag']:14.2f}"
+        )
 
 
 def _wrote(path: Path, as_json: bool, units: UnitSystem = UnitSystem.US) -> None:
@@ -53,9 +114,12 @@ def info(
     json: bool = JsonOpt,
     units: str | None = UnitsOpt,
 ) -> None:
-    """Parameters and derived quantities, with their units (--units us|si)."""
-    p = table_parameters(table, set, lab)
+    """Parameters and derived quantities, with their units (--units us|si); an LTI table: kind, poles, DC gains."""
+    p = table_definition(table, set, lab)
     shown = output_units(units, lab, table)
+    if isinstance(p, LTITable):
+        _lti_info(p, json, shown)
+        return
     data = {
         "parameters": p.to_dict(),
         "derived": {
@@ -82,17 +146,17 @@ def poles(
     units: str | None = UnitsOpt,
 ) -> None:
     """Closed-loop poles: frequency [Hz], damping [-], real/imag [rad/s]; reports instability."""
-    stable, rows = pole_summary(table_parameters(table, set, lab), delay, pade_order)
+    p = table_definition(table, set, lab)
+    delay = _delay(delay, p)
+    if isinstance(p, LTITable):
+        stable, rows = p.is_stable(), pole_table(p.poles())
+    else:
+        stable, rows = pole_summary(p, delay, pade_order)
     if json:
         print_json({"poles": rows, "stable": stable, "delay": delay}, output_units(units, lab, table))
         return
     _say(f"delay model: {delay}   stable: {'yes' if stable else 'NO'}")
-    _say(f"{'pole':5s} {'f [Hz]':>9s} {'zeta':>8s} {'real [rad/s]':>14s} {'imag [rad/s]':>14s}")
-    for row in rows:
-        _say(
-            f"{row.get('label', ''):5s} {row['frequency_hz']:9.2f} {row['damping']:8.3f} "
-            f"{row['real']:14.2f} {row['imag']:14.2f}"
-        )
+    _pole_lines(rows)
 
 
 @app.command()
@@ -111,16 +175,22 @@ def tf(
 
     The coefficients are in internal units (in, in/s^2, lbf, psi; s in rad/s) whatever --units.
 
-    With ``--delay sampled`` the discrete function in z is printed (with ``dt``).
+    With ``--delay sampled`` the discrete function in z is printed (with ``dt``).  An LTI
+    table's function is of its design model (its [model] delay; "sampled": the first-order lag).
     """
-    p = table_parameters(table, set, lab)
-    tbl = LinearTable(p, delay=delay, pade_order=pade_order)
-    H = tbl.sampled().tf(output, input) if delay == "sampled" else tbl.tf(output, input)
-    data = H.to_dict()
+    p = table_definition(table, set, lab)
+    delay = _delay(delay, p)
+    with option_errors({"output": "--output", "input": "--input"}):
+        if isinstance(p, LTITable):
+            data = p.tf(output, input).to_dict()  # continuous: "sampled" designs with the first-order lag
+        else:
+            tbl = LinearTable(p, delay=delay, pade_order=pade_order)
+            H = tbl.sampled().tf(output, input) if delay == "sampled" else tbl.tf(output, input)
+            data = H.to_dict()
     if json:
         print_json(data, output_units(units, lab, table))
         return
-    var = "z" if delay == "sampled" else "s"
+    var = "z" if delay == "sampled" and not isinstance(p, LTITable) else "s"
     _say(f"H_{output}{input}({var}) = num/den, descending powers of {var}")
     _say(f"num = {data['num']}")
     _say(f"den = {data['den']}")
@@ -138,11 +208,16 @@ def bode(
     fmax: float = typer.Option(200.0, "--fmax", help="Highest frequency [Hz]."),
     units: str | None = UnitsOpt,
 ) -> None:
-    """Bode plots of the six transfer functions (PNG, magnitudes in --units us|si)."""
-    p = table_parameters(table, set, lab)
+    """Bode plots of the six transfer functions (PNG, magnitudes in --units us|si); an LTI table's paths."""
+    p = table_definition(table, set, lab)
+    delay = _delay(delay, p)
     check_figure_path(out, "-o")
     shown = output_units(units, lab, table)
-    _wrote(table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax, units=shown), json, shown)
+    if isinstance(p, LTITable):
+        written = table_plots.save_lti_bode(p, out, fmin=fmin, fmax=fmax, units=shown)
+    else:
+        written = table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax, units=shown)
+    _wrote(written, json, shown)
 
 
 @app.command()

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from ..errors import ConfigError
 from ..plant import LinearTable, TableParameters
+from ..plant.lti_table import LTITable
 from ..virtual.base import VirtualSystem
 from ..virtual.registry import BUILTIN
 from ..virtual.system import DefinedVS
@@ -15,23 +16,34 @@ from .forms import TableModel, VirtualModel
 from .linearize import DEFAULT_AMPLITUDE_IN, DEFAULT_ARTICLE_WEIGHT_LBF, METHODS, equivalent_linearization
 
 
-def table_model(params: TableParameters, delay: str = "first-order") -> TableModel:
+def table_model(params: TableParameters | LTITable, delay: str = "first-order") -> TableModel:
     """The design's view of a table: ``H_zu``, ``H_zw`` (Eq 4-15a, 4-15d) and the loop time.
 
     Parameters
     ----------
-    params : TableParameters
+    params : TableParameters or LTITable
         Table parameters (Table 4.1), with the controller's output delay
-        ``output_delay_loops`` [loops] (a lab's; 1 for the report's).
+        ``output_delay_loops`` [loops] (a lab's; 1 for the report's); or a
+        table given as a linear model (:class:`~impedance_mil.plant.lti_table.LTITable`),
+        whose paths are taken with the delay treatment its file states.
     delay : str
         Delay treatment of :class:`~impedance_mil.plant.LinearTable`; the
-        report designs with ``"first-order"``.
+        report designs with ``"first-order"``.  Not used for an LTI table.
+
+    Returns
+    -------
+    TableModel
+        For an LTI table with no ``parameters`` (there are no physical ones:
+        a design file from it holds none, and the generated code's limits
+        then need the physical table).
 
     Raises
     ------
     UnstableSystemError
-        The table loop is unstable for these parameters.
+        The table loop is unstable for these parameters (physical table).
     """
+    if isinstance(params, LTITable):
+        return TableModel(params.tf("z", "u"), params.tf("z", "w"), float(params.loop_time), {})
     tbl = LinearTable(params, delay=delay).require_stable()
     return TableModel(tbl.tf("z", "u"), tbl.tf("z", "w"), float(params.loop_time), params.to_dict())
 

@@ -234,8 +234,15 @@ def environment(form: str, vs: VirtualModel | None) -> VirtualModel:
 def check_table(table: TableModel) -> None:
     """Refuse a table model that no impedance-matching controller can invert.
 
+    Every form (tracking included) needs the force path ``H_zw``: without it
+    the standardized controller's ``H_uw`` is zero, and constraint I and the
+    passivity check III, relative to the bare table's impedance, have nothing
+    to measure (NaN errors and a vacuous pass).
+
     Raises
     ------
+    ConfigError
+        ``H_zw`` is zero (naming ``H_zw``, the missing path).
     UnstableSystemError
         ``H_zu`` or ``H_zw`` has poles in the closed right half plane (the
         table loop itself is unstable).
@@ -245,6 +252,13 @@ def check_table(table: TableModel) -> None:
     """
     if table.H_zu.is_zero:
         raise UnstableDesignError("H_zu of the table is zero: the table does not respond to u")
+    if table.H_zw.is_zero:
+        raise ConfigError(
+            "H_zw",
+            "a table model with a test-article force path (H_zw, z per w, not zero): every MIL form "
+            "matches or removes the table's own impedance H_zw, and its constraints are relative to it",
+            "0",
+        )
     for name, H in (("H_zu", table.H_zu), ("H_zw", table.H_zw)):
         if not H.is_stable():
             worst = max(H.poles(), key=lambda p: p.real)

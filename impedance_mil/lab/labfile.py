@@ -35,6 +35,7 @@ from ..implement.io_units import IOUnits
 from ..plant import TableParameters
 from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
+from ..plant.table_files import is_lti_table_file
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .labsensors import Converter, SensorSetup, sensor_setup
 from .setup import MAX_OUTPUT_DELAY, SafetyLimits
@@ -277,6 +278,13 @@ def load_lab(
     """
     if name is not None and table is not None:
         raise ConfigError("--lab", "either --lab or --table (a table file is a lab with only a table)")
+    if table is not None and is_lti_table_file(table):
+        raise ConfigError(
+            "--table",
+            "a physical table file ([table] keys): this command needs the physical parameters or the "
+            "virtual lab, which does not take an LTI table ([model]) yet",
+            str(table),
+        )
     if table is not None and not _has_sections(read_toml(table)):
         path, data, label = Path(table), {"table": {"file": str(table)}}, Path(table).name
         base = Path.cwd()
@@ -331,6 +339,12 @@ def _table(
     keys: dict[str, Any] = {}
     if "file" in table:
         file = base / str(table.pop("file"))
+        if is_lti_table_file(file):
+            raise ConfigError(
+                f"{where}table.file",
+                "a physical table file: a lab file does not take an LTI table ([model]) yet",
+                file.name,
+            )
         keys.update(table_mapping(read_toml(file), file))
         sources["table"] = f"file {file.name}"
     else:

@@ -1,4 +1,11 @@
-"""Writing identified tables as files that ``--table`` reads back.
+"""Table files: reading either kind (:func:`read_table_file`), and writing identified tables.
+
+A table file is either physical (``[table]`` keys, or the keys at the top
+level: :class:`~impedance_mil.plant.parameters.TableParameters`) or an LTI
+table (a ``[model]`` section: :class:`~impedance_mil.plant.lti_table.LTITable`).
+:func:`read_table_file` reads either; :data:`TableDefinition` is the union.
+
+Writing:
 
 * :func:`physical_table_toml`: a physical table file (the keys of
   :data:`impedance_mil.plant.parameters.FIELDS`, each value with its unit, full
@@ -6,18 +13,75 @@
 * :func:`transfer_function_toml`: a transfer-function table in the layout of
   issue 13 (``[model] kind = "transfer-function"``, ``H_zu = { num, den }`` in
   descending powers of s [rad/s], ``units``, ``delay = "included"``,
-  ``loop_time``).  The toolkit reads such a file once LTI tables exist
-  (issue 13); until then it documents the identified model.
+  ``loop_time``), read back by :func:`read_table_file`.
 
 Both start with comment lines saying where the values came from.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
 
-from .parameters import FIELDS, TableParameters
+from ..config import read_toml
+from ..errors import ConfigError
+from ..systems import CANCEL_RTOL, TransferFunction
+from .lti_reader import lti_table_from_mapping
+from .lti_table import LTITable
+from .parameters import FIELDS, TableParameters, merge_overrides, table_mapping
 from .rational import RationalFit
+
+#: What a table file holds: the physical parameters, or a linear model.
+TableDefinition = TableParameters | LTITable
+
+
+def is_lti_table_data(data: Mapping[str, Any]) -> bool:
+    """Whether a parsed table file is an LTI table (it has a ``[model]`` section)."""
+    return "model" in data
+
+
+def is_lti_table_file(path: str | Path) -> bool:
+    """Whether the table file at ``path`` is an LTI table (DataFileError if unreadable)."""
+    return is_lti_table_data(read_toml(path))
+
+
+def read_table_file(path: str | Path, overrides: Mapping[str, Any] | None = None) -> TableDefinition:
+    """The table of a file: :class:`TableParameters` for a physical file, :class:`LTITable` for ``[model]``.
+
+    ``overrides`` (``--set``) apply to a physical table only.
+
+    Raises
+    ------
+    ConfigError
+        A key of the file (named), or overrides given for an LTI table
+        (``--set``: it has no physical keys).
+    DataFileError
+        The file is missing or not TOML.
+    """
+    path = Path(path)
+    data = read_toml(path)
+    if not is_lti_table_data(data):
+        return TableParameters.from_mapping(merge_overrides(table_mapping(data, path), overrides or {}))
+    if overrides:
+        raise ConfigError(
+            "--set",
+            f"no overrides for the LTI table {path.name} ([model]: it has no physical keys)",
+            ", ".join(overrides),
+        )
+    where = f"{path.name}: "
+    extra = sorted(set(data) - {"model"})
+    if extra:
+        raise ConfigError(f"{where}{extra[0]}", "only a [model] section in an LTI table file")
+    return lti_table_from_mapping(data["model"], where)
+
+
+def read_lti_table(path: str | Path) -> LTITable:
+    """Read an LTI table file (:mod:`impedance_mil.plant.lti_table`); a physical file is refused naming it."""
+    table = read_table_file(path)
+    if not isinstance(table, LTITable):
+        raise ConfigError(str(path), "an LTI table file (a [model] section)", "a physical table file")
+    return table
 
 
 def _comment(lines: Sequence[str]) -> str:
@@ -78,3 +142,70 @@ def transfer_function_toml(
         + f"units = {{ {unit_text} }}\n"
         + f"H_{output}{input} = {{ num = {_array(fit.num)}, den = {_array(fit.den)} }}\n"
     )
+
+
+#: Internal unit of each signal as written in a table file's ``units``.
+_FILE_UNITS = {"u": "in", "w": "lbf", "z": "in/s**2", "x": "in", "v": "in/s", "dp": "psi"}
+
+
+def _pairs(roots) -> str:
+    items = [repr(float(r.real)) if r.imag == 0 else f"[{float(r.real)!r}, {float(r.imag)!r}]" for r in roots]
+    return "[" + ", ".join(items) + "]"
+
+
+def lti_table_toml(table: LTITable, kind: str | None = None, header: Sequence[str] = ()) -> str:
+    """The text of an LTI table file holding ``table`` (internal units), read back by :func:`read_table_file`.
+
+    Parameters
+    ----------
+    table : LTITable
+    kind : str, optional
+        ``"state-space"`` (the model's matrices), ``"transfer-function"`` or
+        ``"zpk"`` (every path of the model, round-off safe); default the table's kind.
+        The paths written are of the file's model (no delay added): the
+        delay treatment is written as ``delay``.
+    """
+    kind = table.kind if kind is None else kind
+    sys = table.state_space().system
+    names = list(dict.fromkeys(["u", "w", *sys.outputs]))
+    lines = [
+        "[model]",
+        f"kind = {kind!r}".replace("'", '"'),
+        f'loop_time = "{table.loop_time!r} s"',
+        f'delay = "{table.delay}"',
+        "units = { " + ", ".join(f'{k} = "{_FILE_UNITS[k]}"' for k in names) + " }",
+    ]
+    if table.allow_unstable:
+        lines.append("allow_unstable = true")
+    if table.delay == "pade":
+        lines.append(f"pade_order = {int(table.pade_order)}")
+    if kind == "state-space":
+        lines += [
+            'inputs = ["u", "w"]',
+            "outputs = [" + ", ".join(f'"{o}"' for o in sys.outputs) + "]",
+            *(f"{m} = [" + ", ".join(_array(r) for r in getattr(sys, m)) + "]" for m in "ABCD"),
+        ]
+    else:
+        for o in sys.outputs:
+            for i in ("u", "w"):
+                H = TransferFunction.from_lti(sys.reachable(i).channel(o, i), cancel_rtol=CANCEL_RTOL)
+                if H.is_zero:
+                    continue
+                if kind == "transfer-function":
+                    lines.append(f"H_{o}{i} = {{ num = {_array(H.num)}, den = {_array(H.den)} }}")
+                else:
+                    lines.append(
+                        f"H_{o}{i} = {{ zeros = {_pairs(_conjugate(H.zeros()))}, "
+                        f"poles = {_pairs(_conjugate(H.poles()))}, gain = {float(H.num[0])!r} }}"
+                    )
+    return _comment(header) + "\n".join(lines) + "\n"
+
+
+def _conjugate(roots) -> list[complex]:
+    """Roots with the conjugate of each complex one exactly mirrored (as a zpk file requires)."""
+    out = []
+    upper = [r for r in roots if r.imag > 0]
+    out += [complex(r.real, 0.0) for r in roots if r.imag == 0]
+    for r in upper:
+        out += [r, r.conjugate()]
+    return out

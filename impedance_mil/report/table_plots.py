@@ -18,6 +18,7 @@ import numpy as np  # noqa: E402
 from ..display import UnitSystem, display_unit, format_value  # noqa: E402
 from ..errors import ConfigError  # noqa: E402
 from ..plant import LinearTable, TableParameters  # noqa: E402
+from ..plant.lti_table import LTITable  # noqa: E402
 from ..plant.tuning import sweep  # noqa: E402
 from .motion_plots import save_figure  # noqa: E402
 
@@ -32,7 +33,14 @@ SIX_TFS = (
 )
 
 #: Internal unit of each signal of the table model.
-SIGNAL_UNITS = {"z": "inch / second**2", "x": "inch", "dp": "psi", "u": "inch", "w": "force_pound"}
+SIGNAL_UNITS = {
+    "z": "inch / second**2",
+    "x": "inch",
+    "v": "inch / second",
+    "dp": "psi",
+    "u": "inch",
+    "w": "force_pound",
+}
 #: Default sweep ranges for root loci (internal units).
 LOCUS_RANGE = {"Ke": 45.0, "Kp": 0.004, "loop_time": 2e-3}
 #: Resolution of the saved figures [dots per inch].
@@ -50,14 +58,35 @@ def bode_figure(
     if not (0 < fmin < fmax):
         raise ConfigError("fmin/fmax", "0 < fmin < fmax [Hz]", (fmin, fmax))
     tbl = LinearTable(p, delay=delay)
+    model = tbl.sampled() if delay == "sampled" else tbl.state_space()
+    title = (
+        f"Shake-table transfer functions (Eq 4-15), Ke={format_value(p.Ke, 'volt / inch', units)}, "
+        f"Kp={format_value(p.Kp, 'volt / psi', units)}, "
+        f"loop time {p.loop_time * 1e6:g} us, delay: {delay}"
+    )
+    return _bode_grid(model.frequency_response, SIX_TFS, fmin, fmax, units, title)
+
+
+def lti_bode_figure(
+    table: LTITable, fmin: float = 0.1, fmax: float = 200.0, units: UnitSystem = UnitSystem.US
+):
+    """Magnitude (in ``units``) and phase of every path of an LTI table's design model (frequencies [Hz])."""
+    if not (0 < fmin < fmax):
+        raise ConfigError("fmin/fmax", "0 < fmin < fmax [Hz]", (fmin, fmax))
+    paths = tuple((o, i, f"{o}/{i}") for i in ("u", "w") for o in table.outputs)
+    title = f"LTI table ({table.kind}), loop time {table.loop_time * 1e6:g} us, delay: {table.delay}"
+    return _bode_grid(table.frequency_response, paths, fmin, fmax, units, title)
+
+
+def _bode_grid(response, paths, fmin: float, fmax: float, units: UnitSystem, title: str):
+    """Magnitude and phase rows of ``paths`` ((output, input, label), three per row) from ``response(out, inp, f)``."""
     f = np.geomspace(fmin, fmax, 400)
-    fig, axes = plt.subplots(4, 3, figsize=(13, 10), sharex=True)
-    for k, (out, inp, label) in enumerate(SIX_TFS):
-        if delay == "sampled":
-            h = tbl.sampled().frequency_response(out, inp, f)
-        else:
-            h = tbl.state_space().frequency_response(out, inp, f)
-        row, col = 2 * (k // 3), k % 3
+    cols = 3
+    rows = -(-len(paths) // cols)
+    fig, axes = plt.subplots(2 * rows, cols, figsize=(13, 5 * rows), sharex=True, squeeze=False)
+    for k, (out, inp, label) in enumerate(paths):
+        h = response(out, inp, f)
+        row, col = 2 * (k // cols), k % cols
         shown_out, shown_in = display_unit(SIGNAL_UNITS[out], units), display_unit(SIGNAL_UNITS[inp], units)
         axes[row, col].loglog(f, np.abs(h) * shown_out.factor / shown_in.factor)
         axes[row, col].set_title(f"{label} [{shown_out.name} / {shown_in.name}]", fontsize=9)
@@ -65,14 +94,16 @@ def bode_figure(
         axes[row + 1, col].set_ylabel("phase [deg]", fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel("frequency [Hz]")
-    fig.suptitle(
-        f"Shake-table transfer functions (Eq 4-15), Ke={format_value(p.Ke, 'volt / inch', units)}, "
-        f"Kp={format_value(p.Kp, 'volt / psi', units)}, "
-        f"loop time {p.loop_time * 1e6:g} us, delay: {delay}",
-        fontsize=10,
-    )
+    fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return fig
+
+
+def save_lti_bode(
+    table: LTITable, path: Path, fmin: float = 0.1, fmax: float = 200.0, units: UnitSystem = UnitSystem.US
+) -> Path:
+    """Write :func:`lti_bode_figure` to ``path`` (format from the suffix, PNG without one)."""
+    return save_figure(lti_bode_figure(table, fmin, fmax, units), path, dpi=DPI)
 
 
 def save_bode(

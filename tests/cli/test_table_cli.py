@@ -11,6 +11,8 @@ from typer.testing import CliRunner
 
 from impedance_mil.cli.main import app
 from impedance_mil.plant import LinearTable, TableParameters, default_table_path
+from impedance_mil.plant.lti_table import LTITable
+from impedance_mil.plant.table_files import lti_table_toml
 
 IMIL = Path(sys.executable).parent / "imil"
 runner = CliRunner()
@@ -127,3 +129,102 @@ def test_tune_prints_the_reports_figures_only_for_the_reports_table(tmp_path):
     changed = runner.invoke(app, ["table", "tune", "--table", str(copy), "--set", "mass=1600 lb"])
     assert changed.exit_code == 0 and needle not in changed.stdout and "Kp_limit" in changed.stdout
     assert needle not in runner.invoke(app, ["table", "tune", "--set", "Ke=4"]).stdout
+
+
+# ---------------------------------------------------------------- LTI tables (issue 13)
+def _lti_file(tmp_path, kind: str, delay: str = "first-order") -> Path:
+    """The report's table (its first-order model, the delay "included") as an LTI table file of ``kind``."""
+    model = LinearTable(TableParameters.report_default()).state_space().system
+    table = LTITable.from_control(model.to_control(), 5e-4, "included")
+    text = lti_table_toml(table, kind).replace('delay = "included"', f'delay = "{delay}"')
+    path = tmp_path / f"{kind}.toml"
+    path.write_text(text)
+    return path
+
+
+KINDS = ["transfer-function", "zpk", "state-space"]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_lti_table_poles_tf_info_bode(tmp_path, kind):
+    path = _lti_file(tmp_path, kind, "included")
+    poles = _json(["table", "poles", "--table", str(path), "--json"])
+    assert poles["delay"] == "included" and poles["stable"] is True
+    got = np.sort_complex(np.array([complex(r["real"], r["imag"]) for r in poles["poles"]]))
+    ref = np.sort_complex(LinearTable(TableParameters.report_default()).poles())
+    np.testing.assert_allclose(got, ref, rtol=1e-9)  # measured 1e-15
+    tf = _json(["table", "tf", "--table", str(path), "--input", "u", "--output", "z", "--json"])
+    H = LinearTable(TableParameters.report_default()).tf("z", "u")
+    np.testing.assert_allclose(tf["num"], H.num, rtol=1e-9)
+    np.testing.assert_allclose(tf["den"], H.den, rtol=1e-9)
+    assert tf["num"][-2:] == [0.0, 0.0]
+    info = _json(["table", "info", "--table", str(path), "--json"])
+    assert info["kind"] == kind and info["loop_time"] == pytest.approx(5e-4)
+    assert info["dc_gains"]["x/u"] == pytest.approx(1.0, rel=1e-12) and info["force_path"] is True
+    si = _json(["table", "info", "--table", str(path), "--json", "--units", "si"])
+    assert si["dc_gains"]["x/w"] == pytest.approx(
+        info["dc_gains"]["x/w"] * 25.4 / 4.4482216152605e-3, rel=1e-12
+    )
+    out = tmp_path / "bode.png"
+    assert _json(["table", "bode", "--table", str(path), "-o", str(out), "--json"])["file"] == str(out)
+    assert out.stat().st_size > 0
+
+
+def test_lti_table_delay_adds_the_command_lag(tmp_path):
+    data = _json(["table", "poles", "--table", str(_lti_file(tmp_path, "zpk")), "--json"])
+    assert data["delay"] == "first-order" and len(data["poles"]) == 6
+    assert min(r["real"] for r in data["poles"]) == pytest.approx(-1.0 / 5e-4, rel=1e-12)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_design_and_export_of_an_lti_table(tmp_path, kind):
+    # The LTI file of the report's first-order model designs the report's controller.
+    path = _lti_file(tmp_path, kind, "included")
+    design = tmp_path / "d.json"
+    doc = _json(["design", "--table", str(path), "--vs", "SD2", "--fc", "80", "--json", "-o", str(design)])
+    ref = _json(["design", "--vs", "SD2", "--fc", "80", "--json"])
+    for name in ("H_uz", "H_uw"):
+        np.testing.assert_allclose(doc[name]["num"], ref[name]["num"], rtol=1e-9)  # measured 2e-15
+        np.testing.assert_allclose(doc[name]["den"], ref[name]["den"], rtol=1e-9)
+        assert len(doc["zpk"][name]["poles"]) == len(doc[name]["den"]) - 1
+    mine, theirs = doc["constraints"][0], ref["constraints"][0]
+    assert (mine["I"], mine["II"], mine["III"]) == (theirs["I"], theirs["II"], theirs["III"])
+    assert mine["performance_error"] == pytest.approx(theirs["performance_error"], rel=1e-9)
+    res = runner.invoke(app, ["export", str(design), "--format", "json", "-o", str(tmp_path / "out")])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "out" / "imil_coefficients.json").is_file()
+
+
+@pytest.mark.parametrize(
+    "args, key",
+    [
+        (["table", "tune"], "--table"),
+        (["table", "rlocus"], "--table"),
+        (["table", "poles", "--set", "Ke=3"], "--set"),
+        (["table", "poles", "--delay", "pade"], "--delay"),
+        (["table", "tf", "--output", "spool"], "--output"),
+        (["design", "--vs", "SD2", "--fc", "80", "--method", "optimized"], "--method"),
+        (["simulate", "--vs", "SD2", "--motion", "elcentro"], "--table"),
+    ],
+)
+def test_commands_needing_the_physical_table_refuse_an_lti_one(tmp_path, imil, args, key):
+    path = _lti_file(tmp_path, "transfer-function")
+    head = 2 if args[0] == "table" else 1
+    tail = [*args[head:], "-o", str(tmp_path / "run.h5")] if args[0] == "simulate" else args[head:]
+    res = imil(*args[:head], "--table", str(path), *tail)
+    lines = res.stderr.strip().splitlines()
+    assert res.returncode == 2 and len(lines) == 1 and key in lines[0], res.stderr
+    assert "Traceback" not in res.stderr
+
+
+def test_design_refuses_an_lti_table_without_force_path(tmp_path, imil):
+    H = LinearTable(TableParameters.report_default()).tf("z", "u")
+    path = tmp_path / "no_w.toml"
+    path.write_text(
+        '[model]\nkind = "transfer-function"\nloop_time = "500 us"\ndelay = "first-order"\n'
+        'units = { z = "in/s**2", u = "in" }\n'
+        f"H_zu = {{ num = {[float(c) for c in H.num]}, den = {[float(c) for c in H.den]} }}\n"
+    )
+    for form in ("standardized", "tracking"):
+        res = imil("design", "--table", path, "--vs", "SD2", "--fc", "80", "--form", form)
+        assert res.returncode == 2 and res.stderr.strip().count("\n") == 0 and "H_zw" in res.stderr

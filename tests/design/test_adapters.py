@@ -3,7 +3,8 @@
 import numpy as np
 
 from impedance_mil.design import design_controller, table_model, virtual_model
-from impedance_mil.plant import TableParameters
+from impedance_mil.plant import LinearTable, TableParameters
+from impedance_mil.plant.lti_table import LTITable
 from impedance_mil.virtual import presets
 
 from .conftest import sd_model
@@ -33,3 +34,23 @@ def test_design_from_packages_reproduces_eq_6_11(table):
     b = design_controller(table, form="standardized", fc_hz=80.0, emit_warnings=False)
     assert a.H_uz.isclose(b.H_uz, rtol=1e-8) and a.H_uw.isclose(b.H_uw, rtol=1e-8)
     assert a.table["Ke"] == 5.0 and a.loop_time_s == 500e-6
+
+
+def test_table_model_of_an_lti_table_is_its_design_paths():
+    # An LTI table (the report's state space, its command delayed by the first-order lag):
+    # table_model takes H_zu, H_zw of the design model, the loop time, and no physical parameters.
+    ss = LinearTable(TableParameters.report_default(), delay="none").state_space().system
+    lti = LTITable.from_control(ss.to_control(), 5e-4, "first-order")
+    tm = table_model(lti)
+    lag = 1.0 / (1.0 + 2j * np.pi * F * 5e-4)
+    ref = LinearTable(TableParameters.report_default(), delay="none")
+    np.testing.assert_allclose(
+        tm.H_zu.frequency_response(F), ref.tf("z", "u").frequency_response(F) * lag, rtol=1e-9
+    )
+    np.testing.assert_allclose(
+        tm.H_zw.frequency_response(F), ref.tf("z", "w").frequency_response(F), rtol=1e-9
+    )
+    assert tm.loop_time_s == 5e-4 and dict(tm.parameters) == {}
+    assert tm.H_zu.relative_degree == 4  # Eq 4-15a's 3, plus the lag: the filter order follows
+    d = design_controller(tm, form="tracking", fc_hz=80.0, emit_warnings=False)
+    assert d.filter.order_z == 4
