@@ -27,6 +27,7 @@ from typing import Any
 from ..config import read_toml
 from ..errors import ConfigError
 from ..systems import CANCEL_RTOL, TransferFunction
+from .frf_table import KIND as FRF_KIND
 from .lti_reader import lti_table_from_mapping
 from .lti_table import LTITable
 from .parameters import FIELDS, TableParameters, merge_overrides, table_mapping
@@ -70,6 +71,15 @@ def read_table_file(path: str | Path, overrides: Mapping[str, Any] | None = None
             ", ".join(overrides),
         )
     where = f"{path.name}: "
+    model = data["model"]
+    if isinstance(model, Mapping) and model.get("kind") == FRF_KIND:
+        # a measurement has no model to invert or to run: it checks a design (imil design --frf)
+        raise ConfigError(
+            f"{where}model.kind",
+            "a model (transfer-function, zpk, state-space or a physical table); "
+            "a measured FRF table checks a design: imil design --table MODEL --frf FILE",
+            FRF_KIND,
+        )
     extra = sorted(set(data) - {"model"})
     if extra:
         raise ConfigError(f"{where}{extra[0]}", "only a [model] section in an LTI table file")
