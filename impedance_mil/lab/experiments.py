@@ -148,7 +148,9 @@ def _table(params, table, kp):
     if kp is None:
         return table
     if isinstance(table, LTIVirtualTable):
-        raise ConfigError("kp", "no K_p override for an LTI table (its hydraulic loop is inside its model)", kp)
+        raise ConfigError(
+            "kp", "no K_p override for an LTI table (its hydraulic loop is inside its model)", kp
+        )
     return table.with_gains(Kp=kp)
 
 

@@ -44,7 +44,7 @@ from .structures import (
     VirtualPlant,
 )
 from .substeps import resolve_substeps
-from .tick import run_lti_loop, run_loop, run_ticks
+from .tick import run_loop, run_lti_loop, run_ticks
 from .trips import Trip, TripCause
 
 _FEEDBACK = {"lc": FEEDBACK_LC, "fe": FEEDBACK_FE}

@@ -139,8 +139,13 @@ class LTIVirtualTable:
         if system.is_discrete:
             raise ConfigError("table.model", "a continuous state space (dt = 0)", f"dt={system.dt:g} s")
         if tuple(system.inputs) != ("u", "w"):
-            raise ConfigError("table.inputs", "('u', 'w'): command [in], test-article force [lbf]", system.inputs)
-        for name, why in (("z", "the table acceleration [in/s**2]"), ("x", "the stroke interlock's displacement [in]")):
+            raise ConfigError(
+                "table.inputs", "('u', 'w'): command [in], test-article force [lbf]", system.inputs
+            )
+        for name, why in (
+            ("z", "the table acceleration [in/s**2]"),
+            ("x", "the stroke interlock's displacement [in]"),
+        ):
             if name not in system.outputs:
                 raise ConfigError("table.outputs", f"an output {name!r}, {why}", tuple(system.outputs))
         if not (np.isfinite(self.loop_time) and self.loop_time > 0):
@@ -155,13 +160,17 @@ class LTIVirtualTable:
         """The model's output names."""
         return tuple(self.model.system.outputs)
 
+    def given_row(self, name: str) -> OutputRow:
+        """Output ``name`` as the model gives it (one of :attr:`outputs`)."""
+        d_u, d_w = self.model.D[name]
+        return OutputRow(np.asarray(self.model.C[name], dtype=float), d_u, d_w)
+
     def row(self, name: str) -> OutputRow | None:
         """Output ``name`` of the model; v derived from x when the model has no v; None if absent."""
         if name in self.outputs:
-            d_u, d_w = self.model.D[name]
-            return OutputRow(np.asarray(self.model.C[name], dtype=float), d_u, d_w)
-        x = self.row("x")
-        if name == "v" and x is not None and x.d_u == 0.0 and x.d_w == 0.0:
+            return self.given_row(name)
+        x = self.given_row("x")
+        if name == "v" and x.d_u == 0.0 and x.d_w == 0.0:
             # v = x' = C_x (A x_t + B_u u + B_w w)
             return OutputRow(x.c @ self.model.A, float(x.c @ self.model.B_u), float(x.c @ self.model.B_w))
         return None
@@ -186,7 +195,7 @@ class LTIVirtualTable:
         """
         t = self.model
         n, m = t.A.shape[0], np.size(Bs)
-        z = self.row("z")
+        z = self.given_row("z")
         denom = 1.0 - z.d_w * Ds
         if abs(denom) < 1e-12:
             raise ConfigError("specimen", "a feedthrough D_s with 1 - D_zw D_s != 0", Ds)
@@ -208,7 +217,14 @@ class LTIVirtualTable:
         feed.append(w_u)
         states = tuple(t.states) + tuple(f"specimen_{i + 1}" for i in range(m))
         system = StateSpace(
-            A, B[:, None], np.vstack(rows), np.array(feed)[:, None], 0.0, ("u",), ("z", "x", "v", "dp", "w"), states
+            A,
+            B[:, None],
+            np.vstack(rows),
+            np.array(feed)[:, None],
+            0.0,
+            ("u",),
+            ("z", "x", "v", "dp", "w"),
+            states,
         )
         return CoupledTable(system, self.has_dp)
 

@@ -269,7 +269,13 @@ class VirtualTable(_CompiledPlant):
 
 
 def lti_plant(
-    table: LTIVirtualTable, specimen, sensors: SensorArrays, limits: LimitValues, substeps: int, noise, output_delay
+    table: LTIVirtualTable,
+    specimen,
+    sensors: SensorArrays,
+    limits: LimitValues,
+    substeps: int,
+    noise,
+    output_delay,
 ) -> LTIPlant:
     """The :class:`~impedance_mil.lab.structures.LTIPlant` of an LTI table and specimen, at rest.
 

@@ -277,7 +277,9 @@ def test_a_model_without_v_derives_it_from_x(pade, params):
 
 def test_the_linear_tables_force_limit_defaults_to_95_percent_of_its_stall_force(pade, params):
     table = virtual_table_for(pade)
-    assert table.max_force == pytest.approx(params.piston_area * (params.supply_pressure - params.return_pressure))
+    assert table.max_force == pytest.approx(
+        params.piston_area * (params.supply_pressure - params.return_pressure)
+    )
     run = simulate(pade, command=np.zeros(5))
     assert "actuator_force" not in run.config["interlocks_unavailable"]
 
