@@ -228,6 +228,7 @@ def simulate(
     config = {**(config or {}), "output_delay": int(output_delay)}
     if lti_lim is not None:
         config["interlocks_unavailable"] = dict(lti_lim.unavailable)
+        config["integration"] = "exact ZOH of table + specimen; substeps split a loop for the filters only"
     if mode == MODE_MIL and getattr(runtime, "python_vs", False):
         # A user-defined VS has no kernel: the same ticks through the plant interface
         # (VirtualTable calls the compiled plant kernels; trajectories are the same).

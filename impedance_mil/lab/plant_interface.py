@@ -10,6 +10,9 @@ compiled kernels as the stages of the compiled loop
 ``plant_truth`` and ``plant_advance`` of :mod:`impedance_mil.lab.kernels`),
 on the arrays of the same :class:`~impedance_mil.lab.structures.VirtualPlant`.
 The order in which a loop calls them is :func:`impedance_mil.lab.tick.sequence`.
+:class:`VirtualLTITable` does the same for a table given by a linear model,
+on the stages of :mod:`impedance_mil.lab.lti_kernels` (:func:`lti_plant`
+builds their :class:`~impedance_mil.lab.structures.LTIPlant`).
 """
 
 from __future__ import annotations
