@@ -22,6 +22,7 @@ from impedance_mil.lab.experiments import run_frf, run_mil, run_tracking
 from impedance_mil.lab.loop import simulate, simulate_interface
 from impedance_mil.lab.lti_plant import LTIVirtualTable, virtual_table_for
 from impedance_mil.lab.plant_interface import VirtualLTITable
+from impedance_mil.lab.results import load_run, save_run
 from impedance_mil.lab.setup import SafetyLimits, default_sensors, ideal_sensors
 from impedance_mil.lab.trips import TripCause
 from impedance_mil.plant.linear import LinearTable
@@ -296,6 +297,17 @@ def test_the_linear_tables_force_limit_defaults_to_95_percent_of_its_stall_force
     )
     run = simulate(pade, command=np.zeros(5))
     assert "actuator_force" not in run.config["interlocks_unavailable"]
+
+
+def test_an_lti_run_file_keeps_the_model_and_what_it_could_not_check(pade, tmp_path):
+    run = simulate(pade, command=_command(200, 500e-6), **EXACT)
+    save_run(run, tmp_path / "lti.h5")
+    back = load_run(tmp_path / "lti.h5")
+    assert back.config["table"]["kind"] == "lti"
+    np.testing.assert_array_equal(np.array(back.config["table"]["model"]["A"]), pade.state_space().A)
+    assert back.config["interlocks_unavailable"] == run.config["interlocks_unavailable"]
+    np.testing.assert_array_equal(back.x, run.x)
+    assert np.all(np.isnan(back.u_v)) and np.all(np.isnan(back.p1))  # no valve, no chambers
 
 
 def test_a_sampled_linear_table_is_refused_naming_the_delay(params):
