@@ -45,9 +45,9 @@ from .setup import SafetyLimits
 from .stepping import Q_DP, Q_FORCE, Q_W, Q_X, Q_Z
 from .structures import LimitValues, LTIArrays
 
-#: Row of the velocity [in/s] in :attr:`LTIArrays.out` (after the sensed quantities).
+#: Row of the velocity [in/s] in (column of its transpose) :attr:`LTIArrays.out_t` (after the sensed quantities).
 ROW_V = 5
-#: Rows of :attr:`LTIArrays.out`: the quantities the sensors read (order of QUANTITIES), then v.
+#: Rows of :attr:`LTIArrays.out_t`: the quantities the sensors read (order of QUANTITIES), then v.
 N_ROWS = 6
 
 
@@ -260,11 +260,11 @@ def lti_arrays(table: LTIVirtualTable, coupled: CoupledTable, substeps: int) -> 
     if table.has_force:
         out[Q_FORCE], out_u[Q_FORCE] = area * out[Q_DP], area * out_u[Q_DP]
     return LTIArrays(
-        loop_phi=np.ascontiguousarray(loop.A),
+        loop_phi_t=np.ascontiguousarray(loop.A.T),
         loop_gamma=np.ascontiguousarray(loop.B[:, 0]),
-        step_phi=np.ascontiguousarray(step.A),
+        step_phi_t=np.ascontiguousarray(step.A.T),
         step_gamma=np.ascontiguousarray(step.B[:, 0]),
-        out=out,
+        out_t=np.ascontiguousarray(out.T),
         out_u=out_u,
         loop_time=float(table.loop_time),
         mass=math.nan if table.mass is None else float(table.mass),

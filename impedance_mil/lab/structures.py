@@ -295,21 +295,23 @@ class LTIArrays(NamedTuple):
     """An LTI table coupled with its specimen, for the compiled stages of :mod:`impedance_mil.lab.lti_kernels`.
 
     The coupled state ``y`` (table model states, then the specimen's) with the
-    command u [in] held advances exactly: ``y <- loop_phi y + loop_gamma u``
-    over a loop, ``step_phi``, ``step_gamma`` over one RK4-substep-long part of
-    it (with anti-alias filters).  Row ``i`` of ``out`` (with ``out_u[i] u``)
-    is the true quantity ``QUANTITIES[i]`` (z [in/s^2], x [in], dP [psi],
-    actuator force [lbf], w [lbf]); row 5 is the velocity v [in/s].  Rows of
-    quantities the model lacks are zero; ``has_dp`` says whether dP exists,
-    ``mass`` [lbf*s^2/in] and ``area`` [in^2] are NaN when unknown.  Built by
-    :func:`impedance_mil.lab.lti_plant.lti_arrays`.
+    command u [in] held advances exactly: ``y <- phi y + gamma u`` with
+    ``phi = loop_phi_t.T``, ``gamma = loop_gamma`` over a loop, and
+    ``step_phi_t``, ``step_gamma`` over one substep-long part of it (with
+    anti-alias filters).  The matrices are stored transposed (the kernels
+    take the products column by column).  Row ``i`` of ``out_t.T`` (with
+    ``out_u[i] u``) is the true quantity ``QUANTITIES[i]`` (z [in/s^2], x
+    [in], dP [psi], actuator force [lbf], w [lbf]); row 5 is the velocity v
+    [in/s].  Rows of quantities the model lacks are zero; ``has_dp`` says
+    whether dP exists, ``mass`` [lbf*s^2/in] and ``area`` [in^2] are NaN when
+    unknown.  Built by :func:`impedance_mil.lab.lti_plant.lti_arrays`.
     """
 
-    loop_phi: np.ndarray
+    loop_phi_t: np.ndarray
     loop_gamma: np.ndarray
-    step_phi: np.ndarray
+    step_phi_t: np.ndarray
     step_gamma: np.ndarray
-    out: np.ndarray
+    out_t: np.ndarray
     out_u: np.ndarray
     loop_time: float
     mass: float
