@@ -28,7 +28,7 @@ from ..errors import ConfigError
 from ..implement.runtime import ControllerArrays
 from ..implement.vs_tick import VSArrays, no_vs_tick
 from ..plant.nonlinear import N_TABLE_STATES
-from .lti_plant import LTIVirtualTable, lti_limits, virtual_table_for
+from .lti_plant import LTIVirtualTable, check_feedback, lti_limits, virtual_table_for
 from .plant_interface import PlantInterface, VirtualLTITable, VirtualTable, lti_plant, specimen_arrays
 from .results import RunResult
 from .setup import SafetyLimits, default_sensors, draw_noise, output_line, sensor_arrays
@@ -212,12 +212,8 @@ def simulate(
         raise ConfigError("feedback", "'lc' (load cells) or 'fe' (force equilibrium)", feedback)
     table = virtual_table_for(table)
     lti = isinstance(table, LTIVirtualTable)
-    if lti and feedback == "fe" and not (table.has_force and table.mass is not None):
-        raise ConfigError(
-            "feedback",
-            "'lc': w_FE = m_st z - A_p dP needs the table model's 'dp' output, piston_area and mass",
-            feedback,
-        )
+    if lti:
+        check_feedback(table, feedback)
     nsub, sub_cfg = resolve_substeps(substeps, table, specimen)
     sensors = sensors or default_sensors()
     sens = sensor_arrays(sensors, feedback, quantize, table.loop_time / nsub)

@@ -241,6 +241,22 @@ class LTIVirtualTable:
         }
 
 
+def check_feedback(table: LTIVirtualTable, feedback: str) -> None:
+    """Refuse ``feedback="fe"`` when the model cannot give ``w_FE = m_st z - A_p dP``.
+
+    Raises
+    ------
+    ConfigError
+        ``"fe"`` on a model without a dP output, a piston area or a mass.
+    """
+    if feedback == "fe" and not (table.has_force and table.mass is not None):
+        raise ConfigError(
+            "feedback",
+            "'lc': w_FE = m_st z - A_p dP needs the table model's 'dp' output, piston_area and mass",
+            feedback,
+        )
+
+
 def lti_arrays(table: LTIVirtualTable, coupled: CoupledTable, substeps: int) -> LTIArrays:
     """The compiled kernels' view of a coupled LTI table (:class:`~impedance_mil.lab.structures.LTIArrays`).
 
@@ -404,6 +420,7 @@ def _stated(table_model, key: str):
 
 __all__ = [
     "CoupledTable",
+    "check_feedback",
     "LTILimits",
     "LTIVirtualTable",
     "OutputRow",

@@ -25,7 +25,7 @@ from ..errors import LimitTripped
 from ..plant.nonlinear import N_TABLE_STATES
 from . import kernels, lti_kernels
 from .kernels import SPEC_BANK, SPEC_CSR, plant_advance
-from .lti_plant import LTIVirtualTable, lti_arrays, lti_limits, virtual_table_for
+from .lti_plant import LTIVirtualTable, check_feedback, lti_arrays, lti_limits, virtual_table_for
 from .setup import SafetyLimits, default_sensors, draw_noise, output_line, sensor_arrays
 from .structures import (
     HELD_STATE,
@@ -328,6 +328,7 @@ class VirtualLTITable(_CompiledPlant):
         output_delay: int = 1,
     ):
         self.table = virtual_table_for(table)
+        check_feedback(self.table, feedback)
         self.loop_time = self.table.loop_time
         self.sensors = sensors or default_sensors()
         self.substeps = resolve_substeps(substeps, self.table, specimen)[0]

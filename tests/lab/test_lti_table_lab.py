@@ -274,6 +274,8 @@ def test_without_dp_the_force_channels_are_unavailable_and_said_so(pade, params)
     assert "dp" in unavailable["actuator_force"] and "valve" in unavailable["valve_duty"]
     with pytest.raises(ConfigError, match="feedback"):
         simulate(no_dp, command=np.zeros(10), feedback="fe")
+    with pytest.raises(ConfigError, match="feedback"):
+        VirtualLTITable(no_dp, feedback="fe")
     with pytest.raises(ConfigError, match="limits.actuator_force"):
         simulate(no_dp, command=np.zeros(10), limits=SafetyLimits(actuator_force=5000.0))
     with pytest.raises(ConfigError, match="limits.pressure"):
