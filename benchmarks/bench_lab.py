@@ -5,7 +5,9 @@ Case: MIL run of report Section 9 -- El Centro (RSN 6) time-scaled by 2
 table, Table 7.1 sensors with noise, single-precision controller, 500 us
 loop, RK4 substeps per loop chosen by the default accuracy rule
 (``substeps="auto"``, :mod:`impedance_mil.lab.substeps`; 2 for this vessel),
-with fixed 2 and 1 substeps printed for comparison.  The motion is scaled to 0.6 g (GM2's level):
+with fixed 2 and 1 substeps printed for comparison, and the same run on LTI
+tables (the table's own linear model, first-order and Pade(6) delay, run by
+the LTI loop of :mod:`impedance_mil.lab.lti_kernels`).  The motion is scaled to 0.6 g (GM2's level):
 at 0.8 g the SD2 basemat's absolute displacement of our El Centro record
 reaches 3.5 in and the stroke interlock (+-3 in) stops the run at 2.65 s.
 
@@ -23,17 +25,24 @@ import argparse
 import os
 import time
 
-import numpy as np
+# One BLAS thread: the benchmark pins itself to one core, where a second BLAS thread,
+# spinning after each matrix product of the setup (the LTI table's matrix exponentials),
+# takes the core from the loop (measured: the LTI run 1.6-2.6x slower with it).
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
 
-from impedance_mil.design import design_controller, table_model, virtual_model
-from impedance_mil.implement import MILRuntime, discretize
-from impedance_mil.lab.loop import simulate, simulate_interface
-from impedance_mil.lab.reference import ScipyTable
-from impedance_mil.plant import TableParameters
-from impedance_mil.plant.nonlinear import NonlinearTable
-from impedance_mil.signals import builtin_motion
-from impedance_mil.specimens import FluidVessel
-from impedance_mil.virtual import presets
+import numpy as np  # noqa: E402
+
+from impedance_mil.design import design_controller, table_model, virtual_model  # noqa: E402
+from impedance_mil.implement import MILRuntime, discretize  # noqa: E402
+from impedance_mil.lab.loop import simulate, simulate_interface  # noqa: E402
+from impedance_mil.lab.reference import ScipyTable  # noqa: E402
+from impedance_mil.plant import TableParameters  # noqa: E402
+from impedance_mil.plant.linear import LinearTable  # noqa: E402
+from impedance_mil.plant.nonlinear import NonlinearTable  # noqa: E402
+from impedance_mil.signals import builtin_motion  # noqa: E402
+from impedance_mil.specimens import FluidVessel  # noqa: E402
+from impedance_mil.virtual import presets  # noqa: E402
 
 GOAL = 500.0
 
@@ -115,6 +124,26 @@ def main() -> None:
             f"{simulated / full:6.0f} x real time (whole call); loop alone "
             f"{per_loop * 1e6:.2f} us per loop -> {p.loop_time / per_loop:6.0f} x; "
             f"trip: {run.trip}"
+        )
+    for delay in ("first-order", "pade"):
+        lti = LinearTable(p, delay=delay)
+        simulate(lti, a_g=gm.accel[:100], runtime=runtime, specimen=vessel)  # compile / load
+        box = {}
+        full = _best(
+            lambda t=lti, b=box: b.__setitem__(
+                "run", simulate(t, a_g=gm.accel, runtime=runtime, specimen=vessel)
+            )
+        )
+        short = _best(lambda t=lti: simulate(t, a_g=gm.accel[:100], runtime=runtime, specimen=vessel))
+        lti_run = box["run"]
+        simulated = lti_run.n_samples * p.loop_time
+        per_loop = (full - short) / (lti_run.n_samples - 100)
+        states = lti.state_space().A.shape[0]
+        print(
+            f"  compiled, LTI table ({delay}, {states} states + vessel, exact ZOH step): "
+            f"{full * 1e3:7.1f} ms wall -> {simulated / full:6.0f} x real time (whole call); loop alone "
+            f"{per_loop * 1e6:.2f} us per loop -> {p.loop_time / per_loop:6.0f} x; "
+            f"{full / walls['auto']:.2f} x the physical table's wall (auto); trip: {lti_run.trip}"
         )
     run = runs["auto"]
     n_ref = int(round(args.reference_seconds / p.loop_time))

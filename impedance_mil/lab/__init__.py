@@ -17,8 +17,9 @@ if TYPE_CHECKING:  # what the names are; each is imported on first use (below)
     from .experiments import ControlledRun, FrfExperiment, KpStudy, kp_study, run_frf, run_mil, run_tracking
     from .identification import TableIdentification, identify_table, model_response
     from .loop import simulate, simulate_interface
+    from .lti_plant import LTIVirtualTable, virtual_table_for
     from .metrics import RunMetrics, evaluate_run
-    from .plant_interface import Measurements, PlantInterface, VirtualTable
+    from .plant_interface import Measurements, PlantInterface, VirtualLTITable, VirtualTable
     from .reference import ScipyTable
     from .results import RunResult, load_run, save_run
     from .setup import SafetyLimits, default_sensors, ideal_sensors
@@ -28,6 +29,7 @@ __all__ = [
     "ControlledRun",
     "FrfExperiment",
     "KpStudy",
+    "LTIVirtualTable",
     "Measurements",
     "PlantInterface",
     "RunMetrics",
@@ -37,6 +39,7 @@ __all__ = [
     "TableIdentification",
     "Trip",
     "TripCause",
+    "VirtualLTITable",
     "VirtualTable",
     "default_sensors",
     "evaluate_run",
@@ -51,6 +54,7 @@ __all__ = [
     "save_run",
     "simulate",
     "simulate_interface",
+    "virtual_table_for",
 ]
 
 # Each name's submodule, imported when the name is first read (PEP 562, impedance_mil/lazy.py):
@@ -69,8 +73,9 @@ __getattr__, __dir__ = lazy_exports(
         ),
         "identification": ("TableIdentification", "identify_table", "model_response"),
         "loop": ("simulate", "simulate_interface"),
+        "lti_plant": ("LTIVirtualTable", "virtual_table_for"),
         "metrics": ("RunMetrics", "evaluate_run"),
-        "plant_interface": ("Measurements", "PlantInterface", "VirtualTable"),
+        "plant_interface": ("Measurements", "PlantInterface", "VirtualLTITable", "VirtualTable"),
         "reference": ("ScipyTable",),
         "results": ("RunResult", "load_run", "save_run"),
         "setup": ("SafetyLimits", "default_sensors", "ideal_sensors"),

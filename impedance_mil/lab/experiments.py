@@ -1,7 +1,8 @@
 """Virtual experiments of the report: frequency response (4.5), tracking (8), MIL (9).
 
 Each function builds the nonlinear virtual table from the linear model's
-parameters (:meth:`NonlinearTable.from_linear`, unless a table is given),
+parameters (:meth:`NonlinearTable.from_linear`, unless a table is given: a
+physical one or an LTI table, :func:`~impedance_mil.lab.lti_plant.virtual_table_for`),
 runs the compiled loop and returns a named result; the CLI and the HTML
 report call these.
 
@@ -42,6 +43,7 @@ from ..signals.multisine import Multisine, design_multisine
 from .feedback import Feedback
 from .identification import TableIdentification, identify_table, model_response
 from .loop import simulate
+from .lti_plant import LTIVirtualTable, virtual_table_for
 from .metrics import RunMetrics, evaluate_run
 from .results import RunResult
 
@@ -140,9 +142,35 @@ class ControlledRun:
 
 
 def _table(params, table, kp):
+    """The virtual table of an experiment: ``table`` (a physical or LTI table), else ``from_linear(params)``."""
     if table is None:
         table = NonlinearTable.from_linear(params)
-    return table if kp is None else table.with_gains(Kp=kp)
+    table = virtual_table_for(table)
+    if kp is None:
+        return table
+    if isinstance(table, LTIVirtualTable):
+        raise ConfigError(
+            "kp", "no K_p override for an LTI table (its hydraulic loop is inside its model)", kp
+        )
+    return table.with_gains(Kp=kp)
+
+
+def _model_responses(p, table, f, delay, channels) -> tuple[dict, dict]:
+    """``(u responses, w responses)`` of the compared linear model at ``f`` [Hz] for ``channels``.
+
+    For an LTI table its own model (the table is the model); otherwise the
+    model of the parameters ``p`` with the delay treatment ``delay`` (Eq 4-15).
+    """
+    if isinstance(table, LTIVirtualTable):
+        model = table.model
+        return (
+            {name: model.frequency_response(name, "u", f) for name in channels},
+            {name: model.frequency_response(name, "w", f) for name in channels},
+        )
+    return (
+        {name: model_response(p, name, f, delay) for name in channels},
+        {name: model_response(p, name, f, delay, input="w") for name in channels},
+    )
 
 
 def run_frf(
@@ -150,7 +178,7 @@ def run_frf(
     *,
     multisine: Multisine | None = None,
     specimen=None,
-    table: NonlinearTable | None = None,
+    table=None,
     kp: float | None = None,
     delay: str | None = None,
     identify: bool = True,
@@ -174,8 +202,11 @@ def run_frf(
         points at the loop rate) with the report's peak (0.1 in, ``[frf] peak``).
     specimen : object, optional
         Test article (Section 4.5.4); ``None`` for the bare table (4.5.3).
-    table : NonlinearTable, optional
-        Use this virtual table instead of ``from_linear(params)``.
+    table : NonlinearTable or LTI table, optional
+        Use this virtual table instead of ``from_linear(params)``: a physical
+        table, or a linear table model (:func:`~impedance_mil.lab.lti_plant.virtual_table_for`),
+        whose own model is then the compared one (``delay`` is unused) and
+        whose FRFs are those of the outputs it has.
     kp : float, optional
         Override K_p [V/psi] of the virtual table (and of the model).
     delay : str, optional
@@ -217,17 +248,22 @@ def run_frf(
     )
     if run.trip is not None:
         return FrfExperiment(run, ms, {}, {}, None, p, delay)
+    channels = {
+        name: ch
+        for name, ch in FRF_CHANNELS.items()
+        if not (isinstance(vt, LTIVirtualTable) and name not in vt.outputs)
+    }
     est = {
         name: estimate_frf(run.u, run.channels[ch], ms.n_points, ms.sample_rate_hz, lines=ms.lines)
-        for name, ch in FRF_CHANNELS.items()
+        for name, ch in channels.items()
     }
     f = est["z"].frequency_hz
-    model = {name: model_response(p, name, f, delay) for name in FRF_CHANNELS}
+    model, model_w = _model_responses(p, vt, f, delay, channels)
     if specimen is not None:
         est["w"] = estimate_frf(run.u, run.w_lc, ms.n_points, ms.sample_rate_hz, lines=ms.lines)
         ratio = est["w"].response
-        for name in FRF_CHANNELS:
-            model[name] = model[name] + model_response(p, name, f, delay, input="w") * ratio
+        for name in channels:
+            model[name] = model[name] + model_w[name] * ratio
     ident = (
         identify_table(est["z"], p, free=free, delay=delay, f_range_hz=f_range_hz)
         if identify and specimen is None

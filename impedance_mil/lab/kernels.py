@@ -78,27 +78,17 @@ from .trips import TripCause
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
-    """Sensor readings of the plant state ``y``: ``(Measurements, true z [in/s^2], true w [lbf])``.
+def measure_quantities(sensors, noise_row, readings, time_s, mass, area):
+    """The :class:`Measurements` of the true quantities in ``sensors.quantities`` (order of QUANTITIES).
 
-    ``pa`` is the table's parameter array, ``specimen`` a
-    :class:`~impedance_mil.lab.structures.SpecimenArrays`, ``sensors`` a
-    :class:`~impedance_mil.lab.structures.SensorArrays`, ``noise_row`` one
-    standard-normal draw per channel; ``readings`` receives every channel's
-    reading; ``time_s`` [s] is stamped on the measurements.  A channel with an
-    anti-alias filter reads the filter's output (``sensors.filters``, brought
-    to this instant by :func:`~impedance_mil.lab.stepping.filter_sense`).
+    Every channel's reading goes into ``readings`` (calibration, noise
+    ``noise_row``, quantization, range); a channel with an anti-alias filter
+    reads the filter's output (``sensors.filters``, brought to this instant by
+    :func:`~impedance_mil.lab.stepping.filter_sense`).  ``w_FE = m_st z - A_p dP``
+    from the table's ``mass`` [lbf*s^2/in] and piston ``area`` [in^2] (NaN
+    when unknown); ``time_s`` [s] is stamped on the measurements.
     """
-    ws = specimen_force_state(specimen.C, y[N_TABLE_STATES:])
-    z = table_acceleration(pa, y, ws, specimen.D)
-    w = ws + specimen.D * z
-    dp = y[IX_P1] - y[IX_P2]
     q = sensors.quantities
-    q[Q_Z] = z
-    q[Q_X] = y[IX_X]
-    q[Q_DP] = dp
-    q[Q_FORCE] = pa[PA_AREA] * dp
-    q[Q_W] = w
     measure_kernel(
         q,
         noise_row,
@@ -130,15 +120,68 @@ def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
             )
     z_meas = readings[sensors.z_channel]
     dp_meas = readings[sensors.dp_channel]
-    m = Measurements(
+    return Measurements(
         time_s,
         readings[sensors.x_channel],
         dp_meas,
         z_meas,
         load_cell_force_kernel(readings, sensors.load_cell_weights),
-        force_from_equilibrium(z_meas, dp_meas, pa[PA_MASS], pa[PA_AREA]),
+        force_from_equilibrium(z_meas, dp_meas, mass, area),
     )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
+    """Sensor readings of the plant state ``y``: ``(Measurements, true z [in/s^2], true w [lbf])``.
+
+    ``pa`` is the table's parameter array, ``specimen`` a
+    :class:`~impedance_mil.lab.structures.SpecimenArrays`, ``sensors`` a
+    :class:`~impedance_mil.lab.structures.SensorArrays`, ``noise_row`` one
+    standard-normal draw per channel; ``readings`` receives every channel's
+    reading; ``time_s`` [s] is stamped on the measurements.  A channel with an
+    anti-alias filter reads the filter's output (``sensors.filters``, brought
+    to this instant by :func:`~impedance_mil.lab.stepping.filter_sense`).
+    """
+    ws = specimen_force_state(specimen.C, y[N_TABLE_STATES:])
+    z = table_acceleration(pa, y, ws, specimen.D)
+    w = ws + specimen.D * z
+    dp = y[IX_P1] - y[IX_P2]
+    q = sensors.quantities
+    q[Q_Z] = z
+    q[Q_X] = y[IX_X]
+    q[Q_DP] = dp
+    q[Q_FORCE] = pa[PA_AREA] * dp
+    q[Q_W] = w
+    m = measure_quantities(sensors, noise_row, readings, time_s, pa[PA_MASS], pa[PA_AREA])
     return m, z, w
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def check_table(limits, y, m, x, v, force):
+    """The interlocks every table has: ``(TripCause, offending value)`` (``TripCause.NONE``: all clear).
+
+    NaN anywhere in the plant state ``y``, divergence of the true
+    displacement ``x`` [in], the stroke (measured x), the true velocity ``v``
+    [in/s], the measured acceleration and dP, and the actuator ``force``
+    ``A_p dP_m`` [lbf], against the :class:`~impedance_mil.lab.structures.LimitValues`
+    ``limits`` (an inf threshold never trips; a NaN value never trips).
+    """
+    for i in range(y.shape[0]):
+        if not math.isfinite(y[i]):
+            return TripCause.NAN, y[i]
+    if abs(x) > limits.divergence:
+        return TripCause.DIVERGENCE, x
+    if abs(m.x) > limits.stroke:
+        return TripCause.STROKE, m.x
+    if abs(v) > limits.velocity:
+        return TripCause.VELOCITY, v
+    if abs(m.z) > limits.acceleration:
+        return TripCause.ACCELERATION, m.z
+    if abs(m.dp) > limits.pressure:
+        return TripCause.PRESSURE, m.dp
+    if abs(force) > limits.actuator_force:
+        return TripCause.ACTUATOR_FORCE, force
+    return TripCause.NONE, 0.0
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -151,22 +194,9 @@ def check_limits(pa, limits, y, m, held):
     last valve command ``u_v`` [V], ``sat`` (consecutive loops with the valve
     command at its limit) and the running averages of the valve interlocks.
     """
-    for i in range(y.shape[0]):
-        if not math.isfinite(y[i]):
-            return TripCause.NAN, y[i]
-    if abs(y[IX_X]) > limits.divergence:
-        return TripCause.DIVERGENCE, y[IX_X]
-    if abs(m.x) > limits.stroke:
-        return TripCause.STROKE, m.x
-    if abs(y[IX_V]) > limits.velocity:
-        return TripCause.VELOCITY, y[IX_V]
-    if abs(m.z) > limits.acceleration:
-        return TripCause.ACCELERATION, m.z
-    if abs(m.dp) > limits.pressure:
-        return TripCause.PRESSURE, m.dp
-    force = pa[PA_AREA] * m.dp
-    if abs(force) > limits.actuator_force:
-        return TripCause.ACTUATOR_FORCE, force
+    cause, value = check_table(limits, y, m, y[IX_X], y[IX_V], pa[PA_AREA] * m.dp)
+    if cause != TripCause.NONE:
+        return cause, value
     if held.sat * pa[PA_LOOP] > limits.valve_saturation_time:
         return TripCause.VALVE_SATURATION, held.u_v
     if held.duty > limits.valve_duty:
@@ -339,9 +369,11 @@ __all__ = [
     "SPEC_CSR",
     "advance",
     "check_limits",
+    "check_table",
     "command",
     "coupled_derivative",
     "delayed_output",
+    "measure_quantities",
     "hydraulic_command",
     "mil_step",
     "plant_advance",

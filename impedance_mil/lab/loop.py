@@ -28,7 +28,8 @@ from ..errors import ConfigError
 from ..implement.runtime import ControllerArrays
 from ..implement.vs_tick import VSArrays, no_vs_tick
 from ..plant.nonlinear import N_TABLE_STATES
-from .plant_interface import PlantInterface, VirtualTable, specimen_arrays
+from .lti_plant import LTIVirtualTable, check_feedback, lti_limits, virtual_table_for
+from .plant_interface import PlantInterface, VirtualLTITable, VirtualTable, lti_plant, specimen_arrays
 from .results import RunResult
 from .setup import SafetyLimits, default_sensors, draw_noise, output_line, sensor_arrays
 from .structures import (
@@ -43,7 +44,7 @@ from .structures import (
     VirtualPlant,
 )
 from .substeps import resolve_substeps
-from .tick import run_loop, run_ticks
+from .tick import run_loop, run_lti_loop, run_ticks
 from .trips import Trip, TripCause
 
 _FEEDBACK = {"lc": FEEDBACK_LC, "fe": FEEDBACK_FE}
@@ -86,7 +87,7 @@ def _config(
     table, specimen, runtime, sensors, limits, substeps: dict, seed, feedback, quantize, extra
 ) -> dict:
     cfg = {
-        "table": asdict(table),
+        "table": table.to_dict() if isinstance(table, LTIVirtualTable) else asdict(table),
         "sensors": sensors.to_dict(),
         "limits": limits.to_dict(),
         **substeps,
@@ -120,6 +121,27 @@ def _trip(done: int, cause: TripCause, value: float, loop_time: float) -> Trip |
     return None if cause == TripCause.NONE else Trip(cause, done * loop_time, float(value))
 
 
+def _virtual_plant(table, specimen, sens, limits, nsub, noise, line) -> VirtualPlant:
+    """The physical table's :class:`VirtualPlant`, at equilibrium."""
+    spec = specimen_arrays(specimen)
+    n_y = N_TABLE_STATES + spec.B.size
+    y = np.zeros(n_y)
+    y[:N_TABLE_STATES] = table.equilibrium_state()
+    return VirtualPlant(
+        table=table.parameter_array(),
+        y=y,
+        specimen=spec,
+        sensors=sens,
+        limits=limits.kernel_values(table),
+        substeps=nsub,
+        noise=noise,
+        work=np.zeros((5, n_y)),
+        readings=np.zeros(noise.shape[1]),
+        held=np.zeros(1, HELD_STATE),
+        output_line=line,
+    )
+
+
 def simulate(
     table,
     *,
@@ -140,8 +162,14 @@ def simulate(
 
     Parameters
     ----------
-    table : NonlinearTable
-        The virtual table (its ``loop_time`` is the loop time).
+    table : NonlinearTable, LTIVirtualTable or a linear table model
+        The virtual table (its ``loop_time`` is the loop time): the physical
+        (nonlinear) table, or a table given by a linear model
+        (:func:`~impedance_mil.lab.lti_plant.virtual_table_for`: a
+        :class:`~impedance_mil.plant.linear.LinearTable`, an LTI table file's
+        model), run by its own compiled loop (:mod:`impedance_mil.lab.lti_kernels`;
+        the interlocks it cannot have are listed in
+        ``config["interlocks_unavailable"]``, see :func:`~impedance_mil.lab.lti_plant.lti_limits`).
     command : array_like, optional
         Open-loop position command u [in] per loop.
     a_g : array_like, optional
@@ -182,17 +210,25 @@ def simulate(
     """
     if feedback not in _FEEDBACK:
         raise ConfigError("feedback", "'lc' (load cells) or 'fe' (force equilibrium)", feedback)
+    table = virtual_table_for(table)
+    lti = isinstance(table, LTIVirtualTable)
+    if lti:
+        check_feedback(table, feedback)
     nsub, sub_cfg = resolve_substeps(substeps, table, specimen)
     sensors = sensors or default_sensors()
     sens = sensor_arrays(sensors, feedback, quantize, table.loop_time / nsub)
     limits = limits or SafetyLimits()
+    lti_lim = lti_limits(limits, table) if lti else None
     mode, ag, cmd = _mode_and_inputs(command, a_g, runtime, table.loop_time)
     line = output_line(output_delay)
     config = {**(config or {}), "output_delay": int(output_delay)}
+    if lti_lim is not None:
+        config["interlocks_unavailable"] = dict(lti_lim.unavailable)
+        config["integration"] = "exact ZOH of table + specimen; substeps split a loop for the filters only"
     if mode == MODE_MIL and getattr(runtime, "python_vs", False):
         # A user-defined VS has no kernel: the same ticks through the plant interface
         # (VirtualTable calls the compiled plant kernels; trajectories are the same).
-        virtual_table = VirtualTable(
+        virtual_table = (VirtualLTITable if lti else VirtualTable)(
             table,
             specimen=specimen,
             sensors=sensors,
@@ -218,29 +254,18 @@ def simulate(
         )
         return replace(result, config=cfg)
     n = ag.size
-    spec = specimen_arrays(specimen)
-    n_y = N_TABLE_STATES + spec.B.size
-    y = np.zeros(n_y)
-    y[:N_TABLE_STATES] = table.equilibrium_state()
-    plant = VirtualPlant(
-        table=table.parameter_array(),
-        y=y,
-        specimen=spec,
-        sensors=sens,
-        limits=limits.kernel_values(table),
-        substeps=nsub,
-        noise=draw_noise(np.random.default_rng(seed), sensors, n),
-        work=np.zeros((5, n_y)),
-        readings=np.zeros(sensors.n_channels),
-        held=np.zeros(1, HELD_STATE),
-        output_line=line,
-    )
+    noise = draw_noise(np.random.default_rng(seed), sensors, n)
     ctrl, vs_tick, vs = _controller_arrays(runtime)
     control = LoopControl(mode, _FEEDBACK[feedback], ag, cmd, float(table.loop_time), ctrl, vs)
     log = Records.allocate(n, vs.x.size)
     # The compiled loop allocates nothing (it runs without reference counting): every
     # structure is made here and outlives the call.
-    done, cause, value = run_loop(plant, control, vs_tick, log)
+    if lti_lim is not None:
+        plant_lti = lti_plant(table, specimen, sens, lti_lim.values, nsub, noise, output_delay)
+        done, cause, value = run_lti_loop(plant_lti, control, vs_tick, log)
+    else:
+        plant = _virtual_plant(table, specimen, sens, limits, nsub, noise, line)
+        done, cause, value = run_loop(plant, control, vs_tick, log)
     channels, vs_states = log.up_to(done)
     return RunResult(
         channels=channels,

@@ -10,20 +10,33 @@ compiled kernels as the stages of the compiled loop
 ``plant_truth`` and ``plant_advance`` of :mod:`impedance_mil.lab.kernels`),
 on the arrays of the same :class:`~impedance_mil.lab.structures.VirtualPlant`.
 The order in which a loop calls them is :func:`impedance_mil.lab.tick.sequence`.
+:class:`VirtualLTITable` does the same for a table given by a linear model,
+on the stages of :mod:`impedance_mil.lab.lti_kernels` (:func:`lti_plant`
+builds their :class:`~impedance_mil.lab.structures.LTIPlant`).
 """
 
 from __future__ import annotations
 
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
 from ..errors import LimitTripped
 from ..plant.nonlinear import N_TABLE_STATES
-from . import kernels
+from . import kernels, lti_kernels
 from .kernels import SPEC_BANK, SPEC_CSR, plant_advance
+from .lti_plant import LTIVirtualTable, check_feedback, lti_arrays, lti_limits, virtual_table_for
 from .setup import SafetyLimits, default_sensors, draw_noise, output_line, sensor_arrays
-from .structures import HELD_STATE, Measurements, SpecimenArrays, VirtualPlant
+from .structures import (
+    HELD_STATE,
+    LTI_HELD_STATE,
+    LimitValues,
+    LTIPlant,
+    Measurements,
+    SensorArrays,
+    SpecimenArrays,
+    VirtualPlant,
+)
 from .substeps import resolve_substeps, specimen_state_space
 
 
@@ -107,7 +120,59 @@ def oscillator_bank_of(A, B):
     return osc_k, osc_c
 
 
-class VirtualTable:
+class _CompiledPlant:
+    """What the virtual tables behind :class:`PlantInterface` share: one sensing per loop, the clock.
+
+    A subclass sets ``plant`` (the compiled stages' structure), ``sensors``,
+    ``seed`` and ``loop_time``, and ``_sense_and_check`` (the compiled
+    ``sense_and_check`` of its stage module).
+    """
+
+    plant: Any
+    sensors: Any
+    seed: int
+    loop_time: float
+    _sense_and_check: Any
+
+    @property
+    def y(self) -> np.ndarray:
+        """Plant state ``[table states, specimen states]`` (advanced in place)."""
+        return self.plant.y
+
+    def _restart(self) -> None:
+        """Filters unprimed, output delay empty, noise from its seed, clock at zero."""
+        self.plant.sensors.filters.reset()
+        self.plant.output_line[:] = 0.0
+        self._rng = np.random.default_rng(self.seed)
+        self._tick = 0
+        self._read: tuple | None = None
+        self.trip_value = float("nan")
+
+    @property
+    def time_s(self) -> float:
+        return self._tick * self.loop_time
+
+    def _sense(self) -> tuple:
+        """This loop's ``(Measurements, TripCause, value)``, sensed once per loop."""
+        if self._read is None:
+            self.plant.noise[0] = draw_noise(self._rng, self.sensors)
+            self._read = self._sense_and_check(self.plant, self.plant.noise[0], self.time_s)
+        return self._read
+
+    def read_sensors(self) -> Measurements:
+        m, cause, value = self._sense()
+        if cause:
+            self.trip_value = float(value)
+            raise LimitTripped(cause, self.time_s, f"value {value:.6g}", value=float(value))
+        return m
+
+    def _step(self) -> None:
+        """The clock moves on: the next loop senses anew."""
+        self._tick += 1
+        self._read = None
+
+
+class VirtualTable(_CompiledPlant):
     """The nonlinear virtual table (and specimen) behind :class:`PlantInterface`.
 
     Parameters
@@ -171,25 +236,13 @@ class VirtualTable:
         )
         self.reset()
 
-    @property
-    def y(self) -> np.ndarray:
-        """Plant state ``[table states (6), specimen states]`` (advanced in place)."""
-        return self.plant.y
+    _sense_and_check = staticmethod(kernels.sense_and_check)
 
     def reset(self) -> None:
         self.y[:] = 0.0
         self.y[:N_TABLE_STATES] = self.table.equilibrium_state()
         self.plant.held[:] = np.zeros(1, HELD_STATE)
-        self.plant.sensors.filters.reset()
-        self.plant.output_line[:] = 0.0
-        self._rng = np.random.default_rng(self.seed)
-        self._tick = 0
-        self._read: tuple | None = None
-        self.trip_value = float("nan")
-
-    @property
-    def time_s(self) -> float:
-        return self._tick * self.loop_time
+        self._restart()
 
     @property
     def valve_command(self) -> float:
@@ -200,20 +253,6 @@ class VirtualTable:
     def current(self) -> float:
         """Valve current of the current loop [mA]."""
         return float(self.plant.held[0]["current"])
-
-    def _sense(self) -> tuple:
-        """This loop's ``(Measurements, TripCause, value)``, sensed once per loop."""
-        if self._read is None:
-            self.plant.noise[0] = draw_noise(self._rng, self.sensors)
-            self._read = kernels.sense_and_check(self.plant, self.plant.noise[0], self.time_s)
-        return self._read
-
-    def read_sensors(self) -> Measurements:
-        m, cause, value = self._sense()
-        if cause:
-            self.trip_value = float(value)
-            raise LimitTripped(cause, self.time_s, f"value {value:.6g}", value=float(value))
-        return m
 
     def write_command(self, u: float) -> None:
         p = self.plant
@@ -227,11 +266,100 @@ class VirtualTable:
         )
         self._step()
 
-    def _step(self) -> None:
-        """The clock moves on: the next loop senses anew."""
-        self._tick += 1
-        self._read = None
-
     def truth(self) -> dict:
         """True (unmeasured) plant quantities of the current loop."""
         return kernels.plant_truth(self.plant.y, self.plant.held)._asdict()
+
+
+def lti_plant(
+    table: LTIVirtualTable,
+    specimen,
+    sensors: SensorArrays,
+    limits: LimitValues,
+    substeps: int,
+    noise,
+    output_delay,
+) -> LTIPlant:
+    """The :class:`~impedance_mil.lab.structures.LTIPlant` of an LTI table and specimen, at rest.
+
+    ``sensors`` and ``limits`` are the kernels' arrays (:func:`~impedance_mil.lab.setup.sensor_arrays`,
+    :func:`~impedance_mil.lab.lti_plant.lti_limits`), ``substeps`` the parts of a loop the
+    anti-alias filters advance by, ``noise`` the sensors' draws (one row per loop),
+    ``output_delay`` N [loops].
+    """
+    coupled = table.coupled(*specimen_state_space(specimen))
+    n = coupled.system.n_states
+    return LTIPlant(
+        table=lti_arrays(table, coupled, substeps),
+        y=np.zeros(n),
+        sensors=sensors,
+        limits=limits,
+        substeps=substeps,
+        noise=noise,
+        work=np.zeros(n),
+        readings=np.zeros(noise.shape[1]),
+        held=np.zeros(1, LTI_HELD_STATE),
+        output_line=output_line(output_delay),
+    )
+
+
+class VirtualLTITable(_CompiledPlant):
+    """An LTI table (and specimen) behind :class:`PlantInterface`, on the compiled LTI stages.
+
+    Parameters are those of :class:`VirtualTable`, with ``table`` an
+    :class:`~impedance_mil.lab.lti_plant.LTIVirtualTable` (or a linear table
+    model, :func:`~impedance_mil.lab.lti_plant.virtual_table_for`); the stages
+    are those of :mod:`impedance_mil.lab.lti_kernels`, so this and the
+    compiled loop give the same numbers.
+    """
+
+    _sense_and_check = staticmethod(lti_kernels.sense_and_check)
+
+    def __init__(
+        self,
+        table,
+        specimen=None,
+        sensors=None,
+        limits: SafetyLimits | None = None,
+        substeps: int | str = "auto",
+        seed: int = 0,
+        feedback: str = "lc",
+        quantize: bool = True,
+        output_delay: int = 1,
+    ):
+        self.table = virtual_table_for(table)
+        check_feedback(self.table, feedback)
+        self.loop_time = self.table.loop_time
+        self.sensors = sensors or default_sensors()
+        self.substeps = resolve_substeps(substeps, self.table, specimen)[0]
+        self.seed = seed
+        self.output_delay = int(output_delay)
+        #: The compiled stages' view of this table: one row of noise, drawn per loop.
+        self.plant = lti_plant(
+            self.table,
+            specimen,
+            sensor_arrays(self.sensors, feedback, quantize, self.loop_time / self.substeps),
+            lti_limits(limits or SafetyLimits(), self.table).values,
+            self.substeps,
+            np.zeros((1, self.sensors.n_channels), np.float32),
+            output_delay,
+        )
+        self.reset()
+
+    def reset(self) -> None:
+        self.y[:] = 0.0
+        self.plant.held[:] = np.zeros(1, LTI_HELD_STATE)
+        self._restart()
+
+    def write_command(self, u: float) -> None:
+        self._sense()  # the command is written in the loop that was read
+        lti_kernels.lti_command(self.plant.held, self.plant.output_line, float(u))
+
+    def advance(self) -> None:
+        self._sense()  # the filters are brought to this instant by the sensing, read or not
+        lti_kernels.advance(self.plant)
+        self._step()
+
+    def truth(self) -> dict:
+        """True (unmeasured) plant quantities of the current loop (NaN: chambers, spool, valve)."""
+        return lti_kernels.truth(self.plant)._asdict()

@@ -12,7 +12,8 @@ compiled call, which allocates nothing.
 * :class:`PlantTruth` -- the true plant quantities of one loop (recorded beside
   the measurements when the plant knows them);
 * :class:`SpecimenArrays`, :class:`SensorArrays` (with its :class:`FilterArrays`), :class:`LimitValues` and
-  :data:`HELD_STATE` -- the pieces of the compiled :class:`VirtualPlant`;
+  :data:`HELD_STATE` -- the pieces of the compiled :class:`VirtualPlant`
+  (:class:`LTIArrays`, :data:`LTI_HELD_STATE` and :class:`LTIPlant` for an LTI table);
 * :class:`LoopControl` -- mode, inputs and the controller (and VS) arrays;
 * :class:`Channels` and :class:`Records` -- the records, one array per
   channel.  :data:`CHANNELS` is their order.
@@ -280,6 +281,72 @@ class VirtualPlant(NamedTuple):
     table: np.ndarray
     y: np.ndarray
     specimen: SpecimenArrays
+    sensors: SensorArrays
+    limits: LimitValues
+    substeps: int
+    noise: np.ndarray
+    work: np.ndarray
+    readings: np.ndarray
+    held: np.ndarray
+    output_line: np.ndarray
+
+
+class LTIArrays(NamedTuple):
+    """An LTI table coupled with its specimen, for the compiled stages of :mod:`impedance_mil.lab.lti_kernels`.
+
+    The coupled state ``y`` (table model states, then the specimen's) with the
+    command u [in] held advances exactly: ``y <- phi y + gamma u`` with
+    ``phi = loop_phi_t.T``, ``gamma = loop_gamma`` over a loop, and
+    ``step_phi_t``, ``step_gamma`` over one substep-long part of it (with
+    anti-alias filters).  The matrices are stored transposed (the kernels
+    take the products column by column).  Row ``i`` of ``out_t.T`` (with
+    ``out_u[i] u``) is the true quantity ``QUANTITIES[i]`` (z [in/s^2], x
+    [in], dP [psi], actuator force [lbf], w [lbf]); row 5 is the velocity v
+    [in/s].  Rows of quantities the model lacks are zero; ``has_dp`` says
+    whether dP exists, ``mass`` [lbf*s^2/in] and ``area`` [in^2] are NaN when
+    unknown.  Built by :func:`impedance_mil.lab.lti_plant.lti_arrays`.
+    """
+
+    loop_phi_t: np.ndarray
+    loop_gamma: np.ndarray
+    step_phi_t: np.ndarray
+    step_gamma: np.ndarray
+    out_t: np.ndarray
+    out_u: np.ndarray
+    loop_time: float
+    mass: float
+    area: float
+    has_dp: bool
+
+
+#: What an LTI plant carries between stages and loops (cf. :data:`HELD_STATE`): the
+#: command ``u`` [in] the model receives this loop (after the output delay), the true
+#: ``x`` [in], ``v`` [in/s], ``z`` [in/s^2], ``dp`` [psi] and ``w`` [lbf] of this
+#: loop's sensing, and the ``head`` of the output delay's ring buffer.
+LTI_HELD_STATE = np.dtype(
+    [
+        ("u", np.float64),
+        ("x", np.float64),
+        ("v", np.float64),
+        ("z", np.float64),
+        ("dp", np.float64),
+        ("w", np.float64),
+        ("head", np.int64),
+    ],
+    align=True,
+)
+
+
+class LTIPlant(NamedTuple):
+    """An LTI table (and specimen) as the compiled stages of :mod:`impedance_mil.lab.lti_kernels` see it.
+
+    Attributes are those of :class:`VirtualPlant`, except ``table`` (the
+    :class:`LTIArrays`), ``work`` (n,) and ``held`` (:data:`LTI_HELD_STATE`);
+    ``output_line`` holds the last N position commands [in].
+    """
+
+    table: LTIArrays
+    y: np.ndarray
     sensors: SensorArrays
     limits: LimitValues
     substeps: int

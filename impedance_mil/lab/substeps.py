@@ -31,6 +31,7 @@ import scipy.optimize
 
 from ..errors import ConfigError
 from ..plant.nonlinear import IX_V, N_TABLE_STATES
+from .lti_plant import LTIVirtualTable
 
 #: Largest one-step relative error ``|R(i theta) exp(-i theta) - 1|`` of RK4 allowed
 #: for the plant's fastest (oscillatory) mode.
@@ -114,9 +115,13 @@ def coupled_state_matrix(table, specimen=None) -> np.ndarray:
     ``continuous_feedback=False``: the digital loop is open between ticks)
     is coupled with the specimen ``x_s' = A_s x_s + B_s z``, ``w = C_s x_s +
     D_s z``; the algebraic loop ``z = c_z x_t + b_z w`` is solved for z.
-    States as in the lab loop: six table states, then the specimen's.
+    States as in the lab loop: six table states, then the specimen's.  An
+    :class:`~impedance_mil.lab.lti_plant.LTIVirtualTable` gives its coupled
+    model's (:meth:`~impedance_mil.lab.lti_plant.LTIVirtualTable.coupled`).
     Units: rad/s (rows are the derivatives in each state's unit per second).
     """
+    if isinstance(table, LTIVirtualTable):
+        return table.coupled(*specimen_state_space(specimen)).system.A
     lin = table.linearize(continuous_feedback=False)
     c_z, _, b_z = lin.C["z"]
     As, Bs, Cs, Ds = specimen_state_space(specimen)
@@ -139,7 +144,7 @@ def choose_substeps(table, specimen=None) -> SubstepChoice:
 
     Parameters
     ----------
-    table : NonlinearTable
+    table : NonlinearTable or LTIVirtualTable
         The virtual table (``loop_time`` T [s]).
     specimen : object, optional
         Test article with ``state_space()`` (or a state space); ``None`` for the bare table.

@@ -4,7 +4,7 @@
 RMC75E runs it (Section 7.3.4), in terms of named *stages*: ``read``
 (sense, then safety), ``record_vs_state``, ``track_step`` or ``mil_step``
 (controller), ``command`` (hydraulic loop), ``truth``, ``record`` and
-``advance``.  It is rendered twice, with two namespaces of stages of the same
+``advance``.  It is rendered three times, with three namespaces of stages of the same
 names:
 
 * :data:`run_loop` = ``numba.njit(sequence(lab.kernels))``: the compiled
@@ -13,6 +13,8 @@ names:
   :class:`~impedance_mil.lab.structures.LoopControl`, the VS tick and the
   :class:`~impedance_mil.lab.structures.Records`), inlined at numba-IR level
   into one loop -- the fast path of :func:`impedance_mil.lab.loop.simulate`;
+* :data:`run_lti_loop` = ``numba.njit(sequence(lab.lti_kernels))``: the same
+  loop on an LTI table (:class:`~impedance_mil.lab.structures.LTIPlant`);
 * :data:`run_ticks` = ``sequence(lab.interface_stages)``: the same loop in
   Python against any :class:`~impedance_mil.lab.plant_interface.PlantInterface`
   and a :class:`~impedance_mil.implement.MILRuntime` -- the path of
@@ -39,7 +41,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from . import interface_stages, kernels
+from . import interface_stages, kernels, lti_kernels
 from .structures import FEEDBACK_LC, MODE_OPEN, MODE_TRACK
 from .trips import TripCause
 
@@ -97,3 +99,8 @@ run_ticks = sequence(interface_stages)
 #: log: Records) -> (loops completed, TripCause, value)``; one compiled variant per
 #: controller precision (float32, float64), for every VS and specimen.
 run_loop = njit(cache=True, error_model="numpy", _nrt=False)(sequence(kernels))
+
+#: The loop compiled on an LTI table: ``run_lti_loop(plant: LTIPlant, control, vs_tick, log)``,
+#: the same sequence with the stages of :mod:`impedance_mil.lab.lti_kernels` (a loop of its
+#: own: the physical table's loop above is untouched by it).
+run_lti_loop = njit(cache=True, error_model="numpy", _nrt=False)(sequence(lti_kernels))
