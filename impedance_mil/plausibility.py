@@ -332,7 +332,7 @@ def table_warnings(values: Mapping[str, Any], *, where: str = "") -> list[str]:
             loop,
         )
     fastest = _fastest_valve_hz(values) if loop is not None and loop > 0 else None
-    if fastest is not None:
+    if loop is not None and fastest is not None:
         shortest = 1.0 / (TWO_PI * fastest)
         if loop > shortest:
             out.append(
