@@ -15,6 +15,7 @@ import math
 import numpy as np
 import pytest
 
+from impedance_mil.design.io import _check_table
 from impedance_mil.errors import ConfigError
 from impedance_mil.lab.kernels import plant_advance
 from impedance_mil.lab.plant_interface import specimen_arrays
@@ -282,3 +283,12 @@ def test_general_table_round_trips_through_its_keys():
     p = VARIANTS["everything"]
     assert TableParameters.from_mapping(p.to_dict()) == p
     assert p.to_dict()["valve"] == "first-order" and "valve_poles_hz" not in p.to_dict()
+
+
+def test_a_design_file_holds_a_general_table():
+    # A design file's table is TableParameters.to_dict(): the valve kind (a word) is accepted,
+    # an unknown kind refused naming table.valve.
+    _check_table(VARIANTS["everything"].to_dict())
+    with pytest.raises(ConfigError) as info:
+        _check_table({**VARIANTS["everything"].to_dict(), "valve": "third-order"})
+    assert info.value.key == "table.valve"
