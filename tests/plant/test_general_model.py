@@ -24,6 +24,7 @@ from impedance_mil.plant import LinearTable, TableParameters
 from impedance_mil.plant.nonlinear import IX_S, IX_SD, Friction, NonlinearTable
 from impedance_mil.plant.parameters import flow_gain_d
 from impedance_mil.plant.statespace import PLANT_STATES, plant_state_space, plant_states
+from impedance_mil.plant.table_files import physical_table_toml
 from impedance_mil.plant.tuning import labelled_poles
 from impedance_mil.units import TWO_PI
 
@@ -292,3 +293,15 @@ def test_a_design_file_holds_a_general_table():
     with pytest.raises(ConfigError) as info:
         _check_table({**VARIANTS["everything"].to_dict(), "valve": "third-order"})
     assert info.value.key == "table.valve"
+
+
+@pytest.mark.parametrize("name", ["report", "everything", "second-order complex"])
+def test_a_written_table_file_reads_back(name, tmp_path):
+    # physical_table_toml writes the keys of to_dict(): a general table and the report's
+    # (whose text is unchanged: no key of the general model appears in it).
+    p = VARIANTS[name]
+    path = tmp_path / "t.toml"
+    path.write_text(physical_table_toml(p))
+    assert TableParameters.from_toml(path) == p
+    if name == "report":
+        assert "valve =" not in path.read_text() and "output_gain" not in path.read_text()
