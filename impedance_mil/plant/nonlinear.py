@@ -52,7 +52,7 @@ from numba import njit
 from ..errors import ConfigError
 from ..lti import StateSpace
 from ..units import TWO_PI
-from .parameters import ValveDynamics
+from .physics import ValveDynamics
 
 # --------------------------------------------------------------------------- layout
 #: Table state layout (indices into the state vector).
