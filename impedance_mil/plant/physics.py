@@ -57,14 +57,8 @@ def oil_column_damping(
     ----------
     leakage_coefficient : float
         Leakage (flow-pressure) coefficient K_l [in^3/s/psi].
-    bulk_modulus : float
-        Oil bulk modulus kappa [psi].
-    piston_area : float
-        Piston area A_p [in^2].
-    mass : float
-        Moving table mass m_st [lbf*s^2/in].
-    mid_stroke : float
-        Mid-stroke position x_m [in].
+    bulk_modulus, piston_area, mass, mid_stroke : float
+        kappa [psi], A_p [in^2], m_st [lbf*s^2/in], x_m [in], as for :func:`oil_column_frequency`.
 
     Returns
     -------
