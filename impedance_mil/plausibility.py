@@ -118,6 +118,23 @@ TABLE_BOUNDS: dict[str, Bound] = {
     ),
     "rated_current": Bound("mA", 1e-3, 1.0, 500.0, 1e5, "report 25 mA; servovalves take 10-200 mA"),
     "valve_command_limit": Bound("V", 1e-3, 1.0, 100.0, 1e4, "report 10 V; analog commands are 10 V"),
+    "valve_time_constant": Bound(
+        "s", 1.6e-7, 8e-5, 0.16, 160.0, "servovalves respond at 1-1000 Hz (T = 0.16 ms to 0.16 s)"
+    ),
+    "valve_frequency_hz": Bound("Hz", 1e-3, 1.0, 2e3, 1e6, "servovalves respond at 1-1000 Hz"),
+    "valve_damping": Bound(
+        "-", None, 0.05, 5.0, 1e3, "valve spools are damped 0.3-1.5; 1e3 is two poles 1e6 apart"
+    ),
+    "platen_damping": Bound(
+        "lbf*s/in", None, None, 1e5, 1e9, "report none (0); 1e5 damps the report's table 12 times critically"
+    ),
+    "coulomb_friction": Bound(
+        "lbf", None, None, 1e5, 1e10, "report none; rail friction is a few % of the table's weight"
+    ),
+    "output_gain": Bound("-", 1e-6, 0.1, 10.0, 1e6, "report 1 (the displacement sensor scaled to inches)"),
+    "grounded_stiffness": Bound(
+        "lbf/in", None, None, 1e7, 1e13, "report none; a steel bar 1 ft^2 by 1 in is 4e9 lbf/in"
+    ),
 }
 
 
@@ -314,15 +331,29 @@ def table_warnings(values: Mapping[str, Any], *, where: str = "") -> list[str]:
             "must be below the Nyquist frequency of the controller)",
             loop,
         )
-    poles = values.get("valve_poles_hz")
-    if loop is not None and poles and loop > 0:
-        shortest = 1.0 / (TWO_PI * max(float(p) for p in poles))
+    fastest = _fastest_valve_hz(values) if loop is not None and loop > 0 else None
+    if loop is not None and fastest is not None:
+        shortest = 1.0 / (TWO_PI * fastest)
         if loop > shortest:
             out.append(
                 f"{where}loop_time = {_fmt(loop)} s is longer than the shortest valve time constant "
-                f"{_fmt(shortest)} s (valve pole {_fmt(max(poles))} Hz): the controller cannot follow the valve"
+                f"{_fmt(shortest)} s (valve pole {_fmt(fastest)} Hz): the controller cannot follow the valve"
             )
     return out
+
+
+def _fastest_valve_hz(values: Mapping[str, Any]) -> float | None:
+    """The fastest valve pole [Hz] of a table's values (two poles, a time constant or a frequency)."""
+    poles = values.get("valve_poles_hz")
+    if poles:
+        return max(float(p) for p in poles)
+    if values.get("valve_time_constant"):
+        return 1.0 / (TWO_PI * float(values["valve_time_constant"]))
+    if values.get("valve_frequency_hz"):
+        zeta = float(values.get("valve_damping") or 0.0)
+        # the faster pole of an overdamped pair, w (zeta + sqrt(zeta^2 - 1)); |p| = w below zeta = 1
+        return float(values["valve_frequency_hz"]) * (zeta + math.sqrt(zeta**2 - 1.0) if zeta > 1.0 else 1.0)
+    return None
 
 
 def vs_bound(unit: str) -> Bound:

@@ -89,9 +89,25 @@ def test_bare_numbers_and_plain_units_are_unchanged():
 TABLE_KEYS = {k: f.unit for k, f in FIELDS.items()} | {k: f.unit for k, (_, f) in ALTERNATIVES.items()}
 
 
+def _table_with(key):
+    """The report's table, or for a key of the general model (issue 13) a table that has it."""
+    report = TableParameters.report_default()
+    second = report.with_valve("second-order", valve_frequency_hz=80.0, valve_damping=0.7)
+    general = {
+        "valve_time_constant": report.with_valve("first-order", valve_time_constant=0.0246),
+        "valve_frequency_hz": second,
+        "valve_damping": second,
+        "platen_damping": report.replace(platen_damping=5.0),
+        "coulomb_friction": report.replace(coulomb_friction=8.0),
+        "output_gain": report.replace(output_gain=1.25),
+        "grounded_stiffness": report.replace(grounded_stiffness=300.0),
+    }
+    return general.get(key, report)
+
+
 @pytest.mark.parametrize("key", sorted(TABLE_KEYS))
 def test_every_table_key(key):
-    report = TableParameters.report_default()
+    report = _table_with(key)
     unit = TABLE_KEYS[key]
     current = getattr(report, key)
     base = {k: v for k, v in report.to_dict().items()}

@@ -35,6 +35,7 @@ from ..config import quantity
 from ..errors import ConfigError, DataFileError, ImilError
 from ..fileio import atomic_write_text, json_safe, parse_json, read_text
 from ..plant.parameters import FIELDS as TABLE_FIELDS
+from ..plant.parameters import VALVE_KINDS
 from ..plausibility import TABLE_BOUNDS, check_table
 from ..systems import TransferFunction
 from .constraints import OPTIONAL_FIELDS, ConstraintResult
@@ -388,6 +389,10 @@ def _check_table(table: Any) -> None:
     if not isinstance(table, dict):
         raise ConfigError("table", "the table parameters (TableParameters.to_dict())", _shown(table))
     for key, value in table.items():
+        if key == "valve":  # the servovalve kind of a general table (issue 13), a word
+            if value not in VALVE_KINDS:
+                raise ConfigError("table.valve", "one of " + ", ".join(VALVE_KINDS), _shown(value))
+            continue
         spec = TABLE_FIELDS.get(key)
         if spec is None:  # a misspelt key would otherwise be ignored and its value lost
             raise ConfigError(f"table.{key}", "a table parameter: " + ", ".join(TABLE_FIELDS))

@@ -51,7 +51,7 @@ from ..lti import StateSpace
 from ..systems import TransferFunction
 from .parameters import TableParameters
 from .sampled import SampledTable
-from .statespace import INPUTS, OUTPUTS, PLANT_STATES, TableStateSpace, feedback_row, plant_state_space
+from .statespace import INPUTS, OUTPUTS, TableStateSpace, feedback_row, plant_state_space
 
 #: Delay treatments of the loop time.
 DELAYS = ("none", "first-order", "pade", "sampled")
@@ -132,12 +132,12 @@ def closed_loop_state_space(
     b_u = p.Kv * p.Ke * b_i
     if delay == "none" or tau == 0.0:
         A_cl = A - p.Kv * np.outer(b_i, k)
-        return TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
+        return TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, ol.states)
     if delay == "first-order":
         # y(t - N tau) ~ y - N tau y' with y' = k A x (k B = 0: x and dP have no direct input)
         k_delayed = k - (loops * tau) * (k @ A)
         A_cl = A - p.Kv * np.outer(b_i, k_delayed)
-        loop = TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, PLANT_STATES)
+        loop = TableStateSpace.build(A_cl, b_u, ol.B_w, ol.C, ol.D, ol.states)
         return loop if loops == 1 else command_delayed(loop, first_order_lag((loops - 1) * tau))
     if delay == "pade":
         if (
@@ -157,7 +157,7 @@ def closed_loop_state_space(
         )
         pad = np.zeros(q)
         C = {name: np.concatenate([row, pad]) for name, row in ol.C.items()}
-        states = PLANT_STATES + tuple(f"delay_{i + 1}" for i in range(q))
+        states = ol.states + tuple(f"delay_{i + 1}" for i in range(q))
         loop = TableStateSpace.build(
             A_cl, np.concatenate([b_u, pad]), np.concatenate([ol.B_w, pad]), C, ol.D, states
         )

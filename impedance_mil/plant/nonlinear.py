@@ -6,7 +6,9 @@ The physics of report Section 4.3 without the linearization of Eq 4-9:
   ``alpha_1, alpha_2``; the spool state ``s`` is expressed in *mA-equivalent*
   (the current that would hold the spool there statically), so that it is the
   state ``x4`` of Eq 4-11.  The port opening saturates at the rated current
-  (full opening).
+  (full opening).  The general model's valves (``NonlinearTable.valve``): a
+  complex pair (second order, same states) or a first-order lag (the spool
+  in the ``spool_rate`` slot, :func:`table_rates`).
 * **Orifice flow** (Eq 4-5): ``Q = K_q * s * f(dp)`` with the square-root law
   ``f(dp) ~ sign(dp) * sqrt(|dp|)`` through the metering edge that is open:
   for ``s > 0`` supply feeds chamber 1 and chamber 2 drains to return, for
@@ -18,14 +20,16 @@ The physics of report Section 4.3 without the linearization of Eq 4-9:
 * **Chambers** (Eq 4-6, 4-8c,d): ``dP_i/dt = kappa/V_i * (flow in)``, volumes
   ``V_1 = A_p (x_m + x) + V_dead``, ``V_2 = A_p (x_m - x) + V_dead`` change
   with stroke, plus cross-piston leakage ``K_l (P_1 - P_2)``.
-* **Table** (Eq 4-7): ``m_st * z = A_p * dP + w - F_friction + F_endstop``;
+* **Table** (Eq 4-7): ``m_st * z = A_p * dP + w - F_friction - k_g x + F_endstop``;
   friction at rails and seals is Coulomb (smoothed as ``v / sqrt(v^2 + v_s^2)``,
-  cheaper than ``tanh`` in the hot loop) plus viscous; beyond the end of
-  stroke ``+-x_m`` a stiff cushion stops the table.
+  cheaper than ``tanh`` in the hot loop) plus viscous (the platen damping c_p);
+  ``k_g`` is the general model's grounded stiffness (0 in the report); beyond
+  the end of stroke ``+-x_m`` a stiff cushion stops the table.
 * **Hydraulic loop** (Section 4.3.4): ``u_v(k) = K_e (u(k) - x(k-1)) - K_p dP(k-1)``
   evaluated at the loop time with the measurements of the previous loop,
   limited to ``+-valve_command_limit`` and held (ZOH); the VC2124 driver gives
-  ``u_i = K_v u_v``.
+  ``u_i = K_v u_v``.  The general model's output gain g scales the measured
+  displacement: ``K_e (u(k) - g x(k-1))``.
 
 Physical parameters are *derived* from the linear model's parameters
 (:meth:`NonlinearTable.from_linear`) so that the small-signal linearization
@@ -48,6 +52,7 @@ from numba import njit
 from ..errors import ConfigError
 from ..lti import StateSpace
 from ..units import TWO_PI
+from .physics import ValveDynamics
 
 # --------------------------------------------------------------------------- layout
 #: Table state layout (indices into the state vector).
@@ -81,8 +86,13 @@ TABLE_STATE_NAMES = ("x", "v", "P1", "P2", "spool", "spool_rate")
     PA_KV,
     PA_UVMAX,
     PA_LOOP,
-) = range(23)
-N_PARAMS = 23
+    PA_VGAMMA,
+    PA_VDELTA,
+    PA_VQ,
+    PA_KG,
+    PA_GOUT,
+) = range(28)
+N_PARAMS = 28
 
 
 # --------------------------------------------------------------------------- kernels
@@ -112,13 +122,15 @@ def port_flows(pa, s, p1, p2):
 def acceleration(pa, x, v, p1, p2, w_state, w_feed):
     """Table acceleration z [in/s^2] (Eq 4-7b with friction and end stops), from scalars.
 
-    ``m_st z = A_p dP + w - F_friction + F_endstop`` with ``w = w_state + w_feed z``;
-    ``x`` [in], ``v`` [in/s], chamber pressures ``p1``, ``p2`` [psi].
+    ``m_st z = A_p dP + w - F_friction - k_g x + F_endstop`` with ``w = w_state + w_feed z``
+    (``k_g`` the grounded stiffness); ``x`` [in], ``v`` [in/s], chamber pressures
+    ``p1``, ``p2`` [psi].
     """
     force = pa[PA_AREA] * (p1 - p2) + w_state
-    # Rails and seals: smoothed Coulomb + viscous friction; end-of-stroke cushion.
+    # Rails and seals: smoothed Coulomb + viscous (platen) friction; end-of-stroke cushion.
     vs = pa[PA_VSMOOTH]
     force -= pa[PA_FC] * v / math.sqrt(v * v + vs * vs) + pa[PA_FV] * v
+    force -= pa[PA_KG] * x  # grounded stiffness (0: an exact no-op)
     xm = pa[PA_MID]
     if x > xm:
         force -= pa[PA_KSTOP] * (x - xm) + pa[PA_CSTOP] * v
@@ -141,6 +153,14 @@ def table_rates(pa, x, v, p1, p2, s, sd, current, w_state, w_feed):
     ``v`` [in/s], ``p1``, ``p2`` [psi], spool ``s`` [mA] and its rate ``sd``
     [mA/s]; ``current`` [mA], ``w_state``, ``w_feed`` as in
     :func:`table_derivative`.  Returns z [in/s^2], [psi/s], [psi/s], [mA/s^2].
+
+    The valve (:class:`~impedance_mil.plant.parameters.ValveDynamics`): the last
+    derivative is ``gamma (current - q s) - delta sd`` and the port opening
+    ``q s + (1 - q) sd``.  A second-order valve has ``q = 1``: ``s'' = gamma
+    (i - s) - delta s'``.  A first-order valve has ``q = 0``, ``delta =
+    gamma = 1/T``: the ``spool_rate`` slot then holds the spool, ``sd' = (i -
+    sd)/T``, and the ``spool`` slot its time integral [mA*s], a decoupled
+    state nothing reads (the lab's RK4 integrates ``s' = sd`` in every case).
     """
     area = pa[PA_AREA]
     xm = pa[PA_MID]
@@ -149,14 +169,13 @@ def table_rates(pa, x, v, p1, p2, s, sd, current, w_state, w_feed):
     vdead = pa[PA_VDEAD]
     v1 = max(area * (xm + x) + vdead, 0.5 * vdead)
     v2 = max(area * (xm - x) + vdead, 0.5 * vdead)
-    q1, q2 = port_flows(pa, s, p1, p2)
+    q = pa[PA_VQ]
+    q1, q2 = port_flows(pa, q * s + (1.0 - q) * sd, p1, p2)
     leak = pa[PA_KL] * (p1 - p2)
     dp1 = pa[PA_KAPPA] / v1 * (q1 - area * v - leak)
     dp2 = pa[PA_KAPPA] / v2 * (area * v + leak - q2)
-    # Servovalve (Eq 4-3), spool in mA-equivalent.
-    a1 = pa[PA_A1]
-    a2 = pa[PA_A2]
-    return z, dp1, dp2, a1 * a2 * (current - s) - (a1 + a2) * sd
+    # Servovalve (Eq 4-3, or first/second order), spool in mA-equivalent.
+    return z, dp1, dp2, pa[PA_VGAMMA] * (current - q * s) - pa[PA_VDELTA] * sd
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -195,9 +214,11 @@ def valve_command(pa, u, x_prev, dp_prev):
     """Digital hydraulic loop of Section 4.3.4 [V], limited to +-valve_command_limit.
 
     ``u`` [in] is the position command of this loop, ``x_prev`` [in] and
-    ``dp_prev`` [psi] the measurements of the previous loop.
+    ``dp_prev`` [psi] the measurements of the previous loop; the displacement
+    enters through the sensor's gain g (``output_gain``, 1 in the report):
+    ``u_v = K_e (u - g x) - K_p dP``.
     """
-    uv = pa[PA_KE] * (u - x_prev) - pa[PA_KP] * dp_prev
+    uv = pa[PA_KE] * (u - pa[PA_GOUT] * x_prev) - pa[PA_KP] * dp_prev
     lim = pa[PA_UVMAX]
     return min(max(uv, -lim), lim)
 
@@ -239,6 +260,15 @@ class Friction:
     def none(cls) -> Friction:
         """No friction (the report's assumption, Eq 4-7b)."""
         return cls(coulomb=0.0, viscous=0.0)
+
+
+def _table_friction(p) -> Friction:
+    """The friction of table parameters ``p``: its ``coulomb_friction`` and ``platen_damping``
+    where given, else the :class:`Friction` defaults."""
+    default = Friction()
+    coulomb = default.coulomb if p.coulomb_friction is None else p.coulomb_friction
+    viscous = default.viscous if p.platen_damping is None else p.platen_damping
+    return Friction(coulomb=coulomb, viscous=viscous)
 
 
 @dataclass(frozen=True)
@@ -301,7 +331,7 @@ class NonlinearTable:
     dead_volume : float
         Oil volume of each chamber beyond the swept volume (ports, manifold) [in^3].
     valve_poles_hz : tuple of float
-        Servovalve poles alpha_1, alpha_2 [Hz].
+        Servovalve poles alpha_1, alpha_2 [Hz] (Eq 4-3); ``()`` when ``valve`` is given.
     supply_pressure, return_pressure : float
         P_s, P_R [psi].
     laminar_pressure : float
@@ -319,9 +349,17 @@ class NonlinearTable:
     loop_time : float
         Controller loop time tau_s [s].
     friction : Friction
-        Rail and seal friction.
+        Rail and seal friction; its viscous term is the platen damping c_p
+        [lbf*s/in] of the linear model (one term, not two).
     endstop_stiffness, endstop_damping : float
         Cushion beyond +-x_m [lbf/in], [lbf*s/in].
+    valve : ValveDynamics or None
+        The servovalve (:class:`~impedance_mil.plant.parameters.ValveDynamics`);
+        None: the two poles ``valve_poles_hz``.
+    output_gain : float
+        Displacement sensor gain g [-] in the hydraulic loop (:func:`valve_command`).
+    grounded_stiffness : float
+        Stiffness from the platen to ground k_g [lbf/in] (:func:`acceleration`).
     """
 
     piston_area: float
@@ -344,6 +382,9 @@ class NonlinearTable:
     friction: Friction = field(default_factory=Friction)
     endstop_stiffness: float = 1.0e6
     endstop_damping: float = 2.0e3
+    valve: ValveDynamics | None = None
+    output_gain: float = 1.0
+    grounded_stiffness: float = 0.0
 
     def __post_init__(self):
         positive = (
@@ -369,8 +410,23 @@ class NonlinearTable:
             raise ConfigError(
                 "table.supply_pressure", "a pressure above return_pressure [psi]", self.supply_pressure
             )
-        if len(self.valve_poles_hz) != 2 or min(self.valve_poles_hz) <= 0:
-            raise ConfigError("table.valve_poles_hz", "two positive frequencies [Hz]", self.valve_poles_hz)
+        if self.valve is None:
+            if len(self.valve_poles_hz) != 2 or min(self.valve_poles_hz) <= 0:
+                raise ConfigError(
+                    "table.valve_poles_hz", "two positive frequencies [Hz]", self.valve_poles_hz
+                )
+        elif len(self.valve_poles_hz) > 0:
+            raise ConfigError(
+                "table.valve_poles_hz", "() when the valve is given as ValveDynamics", self.valve_poles_hz
+            )
+        elif not (self.valve.order in (1, 2) and self.valve.gamma > 0 and self.valve.delta >= 0):
+            raise ConfigError("table.valve", "order 1 or 2, gamma > 0 and delta >= 0", self.valve)
+        if not (np.isfinite(self.output_gain) and self.output_gain > 0):
+            raise ConfigError("table.output_gain", "a positive finite gain", self.output_gain)
+        if not (np.isfinite(self.grounded_stiffness) and self.grounded_stiffness >= 0):
+            raise ConfigError(
+                "table.grounded_stiffness", "a non-negative stiffness [lbf/in]", self.grounded_stiffness
+            )
 
     # ----------------------------------------------------------------- building
     @classmethod
@@ -388,7 +444,10 @@ class NonlinearTable:
             Oil volume of each chamber at mid-stroke beyond ``A_p x_m`` [in^3].
             Not given in the report; default 0.5 in^3 (port passages).
         friction : Friction, optional
-            Rail/seal friction; default :class:`Friction` (small).
+            Rail/seal friction.  Default: ``p.coulomb_friction`` [lbf] and
+            ``p.platen_damping`` [lbf*s/in] where the table gives them, else
+            the defaults of :class:`Friction` (8 lbf, 0.5 lbf*s/in: chosen in
+            this toolkit, not the report's; existing runs keep them).
         laminar_pressure : float
             Regularisation pressure of the orifice law [psi].
 
@@ -402,7 +461,10 @@ class NonlinearTable:
         * ``K_q = d V_0 / (2 kappa f((P_s - P_R)/2))``  (Eq 4-12),
 
         where ``f`` is the orifice law, so the linearization matches Eq 4-11
-        exactly (tested in ``tests/lab/test_nonlinear_table.py``).
+        exactly (tested in ``tests/lab/test_nonlinear_table.py``).  The valve
+        kind, output gain and grounded stiffness of the general model carry
+        over; the Coulomb friction has no linear counterpart (a Jacobian test
+        needs ``coulomb_friction = 0``).
         """
         if dead_volume <= 0:
             raise ConfigError("table.dead_volume", "a positive volume [in^3]", dead_volume)
@@ -419,7 +481,7 @@ class NonlinearTable:
             leakage=p.zeta_oil * omega * v0 / kappa,
             flow_gain=p.d * v0 / (2.0 * kappa * f_eq),
             dead_volume=dead_volume,
-            valve_poles_hz=tuple(float(f) for f in p.valve_poles_hz),
+            valve_poles_hz=tuple(float(f) for f in p.valve_poles_hz) if p.valve == "two-pole" else (),
             supply_pressure=p.supply_pressure,
             return_pressure=p.return_pressure,
             laminar_pressure=laminar_pressure,
@@ -429,7 +491,10 @@ class NonlinearTable:
             Kv=p.Kv,
             valve_command_limit=p.valve_command_limit,
             loop_time=p.loop_time,
-            friction=Friction() if friction is None else friction,
+            friction=_table_friction(p) if friction is None else friction,
+            valve=None if p.valve == "two-pole" else p.valve_dynamics,
+            output_gain=p.output_gain,
+            grounded_stiffness=p.grounded_stiffness,
         )
 
     def with_gains(self, **changes) -> NonlinearTable:
@@ -437,6 +502,14 @@ class NonlinearTable:
         return replace(self, **changes)
 
     # ----------------------------------------------------------------- derived
+    @property
+    def valve_dynamics(self) -> ValveDynamics:
+        """The servovalve: ``valve``, or the two poles of ``valve_poles_hz`` (Eq 4-3)."""
+        if self.valve is not None:
+            return self.valve
+        a1, a2 = TWO_PI * self.valve_poles_hz[0], TWO_PI * self.valve_poles_hz[1]
+        return ValveDynamics(2, a1 * a2, a1 + a2)
+
     @property
     def equilibrium_pressure(self) -> float:
         """Chamber pressure at rest, ``(P_s + P_R)/2`` [psi]."""
@@ -470,8 +543,15 @@ class NonlinearTable:
         pa[PA_PS] = self.supply_pressure
         pa[PA_PR] = self.return_pressure
         pa[PA_PLAM] = self.laminar_pressure
-        pa[PA_A1] = TWO_PI * self.valve_poles_hz[0]
-        pa[PA_A2] = TWO_PI * self.valve_poles_hz[1]
+        valve = self.valve_dynamics
+        if self.valve is None:
+            pa[PA_A1] = TWO_PI * self.valve_poles_hz[0]
+            pa[PA_A2] = TWO_PI * self.valve_poles_hz[1]
+        pa[PA_VGAMMA] = valve.gamma
+        pa[PA_VDELTA] = valve.delta if valve.order == 2 else valve.gamma
+        pa[PA_VQ] = 1.0 if valve.order == 2 else 0.0
+        pa[PA_KG] = self.grounded_stiffness
+        pa[PA_GOUT] = self.output_gain
         pa[PA_SMAX] = self.spool_limit
         pa[PA_FC] = self.friction.coulomb
         pa[PA_FV] = self.friction.viscous
@@ -504,8 +584,11 @@ class NonlinearTable:
         """Numerical Jacobian at equilibrium (central differences).
 
         With ``continuous_feedback`` the hydraulic loop is closed in continuous
-        time, ``u_i = K_v (K_e (u - x) - K_p dP)`` (the analog controller of
-        Eq 4-14b); otherwise the input is the valve current u_i [mA] (Eq 4-11).
+        time, ``u_i = K_v (K_e (u - g x) - K_p dP)`` (the analog controller of
+        Eq 4-14b, g the output gain); otherwise the input is the valve current
+        u_i [mA] (Eq 4-11).  The six states are those of the lab
+        (``TABLE_STATE_NAMES``): with a first-order valve the ``spool`` slot
+        (the spool's integral) is a decoupled mode at 0.
         """
         pa = self.parameter_array()
         x0 = self.equilibrium_state()
@@ -514,7 +597,7 @@ class NonlinearTable:
 
         def rhs(x, u, w):
             cur = (
-                self.Kv * (self.Ke * (u - x[IX_X]) - self.Kp * (x[IX_P1] - x[IX_P2]))
+                self.Kv * (self.Ke * (u - self.output_gain * x[IX_X]) - self.Kp * (x[IX_P1] - x[IX_P2]))
                 if continuous_feedback
                 else u
             )

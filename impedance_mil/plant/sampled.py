@@ -34,7 +34,7 @@ from ..errors import ConfigError
 from ..lti import StateSpace
 from ..ss2tf import ss_to_tf
 from .parameters import TableParameters
-from .statespace import INPUTS, PLANT_STATES, TableChannels, feedback_row, plant_state_space
+from .statespace import INPUTS, TableChannels, feedback_row, plant_state_space
 
 
 @dataclass(frozen=True)
@@ -68,7 +68,8 @@ class SampledTable(TableChannels):
     ----------
     system : StateSpace
         Discrete, sample time the loop time T [s]; states ``[x, v, dp,
-        spool, spool_rate, memory, pending_1 ... pending_{N-1}]`` (``memory``:
+        spool, spool_rate, memory, pending_1 ... pending_{N-1}]`` (no
+        ``spool_rate`` with a first-order valve; ``memory``:
         the feedback saved in the previous loop [V]; ``pending_j``: the valve
         command computed j loops earlier [V], N the output delay); inputs the command u [in] and the force w [lbf];
         outputs ``"z"``, ``"x"``, ``"v"``, ``"dp"``.
@@ -84,7 +85,8 @@ class SampledTable(TableChannels):
         """
         if not p.loop_time > 0:
             raise ConfigError("loop_time", "a positive loop time for the sampled-data model", p.loop_time)
-        ol = plant_state_space(p).system.zoh(p.loop_time)
+        plant = plant_state_space(p)
+        ol = plant.system.zoh(p.loop_time)
         phi, g_i, g_w = ol.A, ol.B[:, 0], ol.B[:, 1]
         n, extra = phi.shape[0], p.output_delay_loops - 1
         memory = n
@@ -107,7 +109,7 @@ class SampledTable(TableChannels):
                 A[j, j - 1] = 1.0
             A[:n, last] = p.Kv * g_i
         C = np.column_stack([ol.C, np.zeros((ol.n_outputs, 1 + extra))])
-        states = PLANT_STATES + ("memory",) + tuple(f"pending_{j + 1}" for j in range(extra))
+        states = plant.states + ("memory",) + tuple(f"pending_{j + 1}" for j in range(extra))
         return cls(StateSpace(A, B, C, ol.D, p.loop_time, INPUTS, ol.outputs, states))
 
     @property

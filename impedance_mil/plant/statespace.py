@@ -3,7 +3,10 @@
 States of the open-loop model (Eq 4-11): ``x`` table displacement [in], ``v``
 velocity [in/s], ``dp`` differential pressure [psi], ``spool`` servovalve
 state in equivalent current [mA] (unit DC gain from u_i), ``spool_rate``
-[mA/s].  Sign convention (Eq 4-7b): ``m_st z = A_p dP + w``.
+[mA/s] (a second-order valve; a first-order valve has no ``spool_rate``,
+:func:`plant_states`).  Sign convention (Eq 4-7b): ``m_st z = A_p dP + w``,
+with the general model's platen damping c_p and grounded stiffness k_g
+``m_st z = A_p dP + w - k_g x - c_p v`` (both 0 in the report's table).
 """
 
 from __future__ import annotations
@@ -22,8 +25,15 @@ from .parameters import TableParameters
 OUTPUTS = ("z", "x", "v", "dp")
 #: Inputs: position command u [in], test-article force w [lbf].
 INPUTS = ("u", "w")
-#: Names of the states of Eq 4-11.
+#: Names of the states of Eq 4-11 (a second-order valve: the report's).
 PLANT_STATES = ("x", "v", "dp", "spool", "spool_rate")
+#: Names of the states with a first-order valve.
+FIRST_ORDER_PLANT_STATES = PLANT_STATES[:4]
+
+
+def plant_states(p: TableParameters) -> tuple[str, ...]:
+    """The open-loop states of ``p``'s model: :data:`PLANT_STATES`, without ``spool_rate`` for a first-order valve."""
+    return PLANT_STATES if p.valve_dynamics.order == 2 else FIRST_ORDER_PLANT_STATES
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,29 +159,47 @@ class TableStateSpace(TableChannels):
 def plant_state_space(p: TableParameters) -> TableStateSpace:
     """Open-loop model Eq 4-11: inputs valve current u_i [mA] and force w [lbf].
 
-    Built from the servovalve (Eq 4-3, scaled to unit DC gain from u_i) and the
-    actuator-table model (Eq 4-9 with Eq 4-10a/b).
+    Built from the servovalve (Eq 4-3, scaled to unit DC gain from u_i; or the
+    first- or second-order valve of ``p.valve``) and the actuator-table model
+    (Eq 4-9 with Eq 4-10a/b, plus the platen damping c_p and the grounded
+    stiffness k_g of the general model: ``m_st v' = A_p dP + w - k_g x - c_p v``).
     """
-    a1, a2 = p.valve_poles
-    gamma, delta = a1 * a2, a1 + a2
+    valve = p.valve_dynamics
     w2, eps = p.omega_oil**2, 2.0 * p.zeta_oil * p.omega_oil
     m, ap = p.mass, p.piston_area
-    A = np.array(
-        [
-            [0.0, 1.0, 0.0, 0.0, 0.0],
-            [0.0, 0.0, ap / m, 0.0, 0.0],
-            [0.0, -w2 * m / ap, -eps, p.d, 0.0],
-            [0.0, 0.0, 0.0, 0.0, 1.0],
-            [0.0, 0.0, 0.0, -gamma, -delta],
-        ]
-    )
-    B_i = np.array([0.0, 0.0, 0.0, 0.0, gamma])
-    B_w = np.array([0.0, 1.0 / m, 0.0, 0.0, 0.0])
-    C = {"z": A[1].copy(), "x": np.eye(5)[0], "v": np.eye(5)[1], "dp": np.eye(5)[2]}
+    states = plant_states(p)
+    n = len(states)
+    A = np.zeros((n, n))
+    A[0, 1] = 1.0
+    # 0.0 - c: an exact +0.0 when c = 0 (the report's table, bit for bit)
+    A[1, 0] = 0.0 - p.grounded_stiffness / m
+    A[1, 1] = 0.0 - (p.platen_damping or 0.0) / m
+    A[1, 2] = ap / m
+    A[2, 1] = -w2 * m / ap
+    A[2, 2] = -eps
+    A[2, 3] = p.d
+    B_i = np.zeros(n)
+    if valve.order == 2:
+        A[3, 4] = 1.0
+        A[4, 3] = -valve.gamma
+        A[4, 4] = -valve.delta
+    else:
+        A[3, 3] = -valve.gamma
+    B_i[n - 1] = valve.gamma
+    B_w = np.zeros(n)
+    B_w[1] = 1.0 / m
+    eye = np.eye(n)
+    C = {"z": A[1].copy(), "x": eye[0], "v": eye[1], "dp": eye[2]}
     D = {"z": (0.0, 1.0 / m), "x": (0.0, 0.0), "v": (0.0, 0.0), "dp": (0.0, 0.0)}
-    return TableStateSpace.build(A, B_i, B_w, C, D, PLANT_STATES, input_name="u_i")
+    return TableStateSpace.build(A, B_i, B_w, C, D, states, input_name="u_i")
 
 
 def feedback_row(p: TableParameters) -> np.ndarray:
-    """Row ``k`` with ``k x = K_e x_st + K_p dP`` [V], the delayed feedback of Section 4.3.4."""
-    return np.array([p.Ke, 0.0, p.Kp, 0.0, 0.0])
+    """Row ``k`` with ``k x = K_e g x_st + K_p dP`` [V], the delayed feedback of Section 4.3.4.
+
+    ``g`` is the displacement sensor's gain (``p.output_gain``, 1 in the report).
+    """
+    k = np.zeros(len(plant_states(p)))
+    k[0] = p.Ke * p.output_gain
+    k[2] = p.Kp
+    return k

@@ -103,10 +103,13 @@ def _value(value: float, unit: str) -> str:
 
 
 def physical_table_toml(params: TableParameters, header: Sequence[str] = ()) -> str:
-    """The text of a table file holding ``params`` (every key, with its unit)."""
+    """The text of a table file holding ``params`` (the keys of ``params.to_dict()``, each with its unit)."""
     rows = []
-    for key, spec in FIELDS.items():
-        value = getattr(params, key)
+    for key, value in params.to_dict().items():
+        if key == "valve":  # the valve kind of a general table: a word
+            rows.append(f'{key} = "{value}"')
+            continue
+        spec = FIELDS[key]
         if spec.count > 1:
             text = "[" + ", ".join(_value(v, spec.unit) for v in value) + "]"
         else:

@@ -21,9 +21,19 @@ from ..errors import ConfigError
 from ..systems import pole_table
 from .linear import LinearTable
 from .parameters import TableParameters
+from .statespace import plant_state_space
 
 #: Report labels of the five poles of Eq 4-14 (Tables 4.2, 4.3).
 POLE_LABELS = ("p1", "p2", "p3", "p4", "p5")
+#: Labels of the four poles with a first-order valve (one valve pole, p2).
+FIRST_ORDER_POLE_LABELS = ("p1", "p2", "p4", "p5")
+
+
+def pole_labels(p: TableParameters) -> tuple[str, ...]:
+    """The pole labels of ``p``'s model: :data:`POLE_LABELS`, or :data:`FIRST_ORDER_POLE_LABELS`."""
+    return POLE_LABELS if p.valve_dynamics.order == 2 else FIRST_ORDER_POLE_LABELS
+
+
 #: Parameters that can be swept.
 SWEEPABLE = ("Ke", "Kp", "loop_time")
 _STEPS = 12
@@ -63,10 +73,24 @@ def _match(previous: np.ndarray, current: np.ndarray) -> np.ndarray:
 
 
 def _open_loop_poles(p: TableParameters) -> np.ndarray:
-    a1, a2 = p.valve_poles
-    w, z = p.omega_oil, p.zeta_oil
-    wd = w * np.sqrt(1 - z**2)
-    return np.array([0.0, -a1, -a2, -z * w + 1j * wd, -z * w - 1j * wd], dtype=complex)
+    """Open-loop poles in label order: rigid body, valve, oil column (upper half plane first)."""
+    if p.valve == "two-pole":
+        a1, a2 = p.valve_poles
+        valve = np.array([-a1, -a2], dtype=complex)
+    else:
+        valve = np.sort_complex(p.valve_dynamics.poles())[::-1]
+    if p.grounded_stiffness == 0.0 and not p.platen_damping:
+        w, z = p.omega_oil, p.zeta_oil
+        wd = w * np.sqrt(1 - z**2)
+        actuator = np.array([0.0, -z * w + 1j * wd, -z * w - 1j * wd], dtype=complex)
+    else:
+        # the actuator block (x, v, dp) of Eq 4-11: the valve feeds it, it does not feed the valve
+        eig = np.linalg.eigvals(plant_state_space(p).A[:3, :3]).astype(complex)
+        eig = eig[np.argsort(np.abs(eig))]
+        rigid, oil = eig[0], eig[1:]
+        oil = oil[np.argsort(-oil.imag)]
+        actuator = np.array([rigid, *oil])
+    return np.concatenate([actuator[:1], valve, actuator[1:]])
 
 
 def _continue(
@@ -80,7 +104,8 @@ def _continue(
 
 
 def labelled_poles(p: TableParameters, delay: str = "first-order") -> list[Mode]:
-    """The five closed-loop poles with the report's labels p1..p5.
+    """The five closed-loop poles with the report's labels p1..p5 (four, without p3,
+    with a first-order valve: :func:`pole_labels`).
 
     Parameters
     ----------
@@ -98,7 +123,7 @@ def labelled_poles(p: TableParameters, delay: str = "first-order") -> list[Mode]
     poles = _continue(q, poles, "Kp", p.Kp, delay)
     if delay == "first-order" and p.loop_time > 0:
         poles = _continue(q.replace(Kp=p.Kp), poles, "loop_time", p.loop_time, delay)
-    return [Mode(label, complex(pole)) for label, pole in zip(POLE_LABELS, poles)]
+    return [Mode(label, complex(pole)) for label, pole in zip(pole_labels(p), poles, strict=True)]
 
 
 def oil_column_mode(p: TableParameters, delay: str = "first-order") -> Mode:
@@ -168,7 +193,7 @@ def sweep(p: TableParameters, name: str, values, delay: str = "first-order", ste
     for a, b in zip(values[:-1], values[1:]):
         poles = _continue(p.replace(**{name: float(a)}), poles, name, float(b), delay, steps=steps)
         rows.append(poles)
-    return PoleSweep(name, values, np.array(rows))
+    return PoleSweep(name, values, np.array(rows), pole_labels(p))
 
 
 def _unstable(p: TableParameters, delay: str) -> bool:

@@ -228,3 +228,51 @@ def test_design_refuses_an_lti_table_without_force_path(tmp_path, imil):
     for form in ("standardized", "tracking"):
         res = imil("design", "--table", path, "--vs", "SD2", "--fc", "80", "--form", form)
         assert res.returncode == 2 and res.stderr.strip().count("\n") == 0 and "H_zw" in res.stderr
+
+
+#: A general physical table (issue 13 item 1): a first-order valve (24.6 ms, the value quoted
+#: in issue 13), platen damping and a grounded spring; d and the ratings left out.
+FIRST_ORDER_TABLE = """[table]
+Ke = "5 V/in"
+Kp = "0.001 V/psi"
+Kv = "3 mA/V"
+loop_time = "500 us"
+piston_area = "2.1 in**2"
+mid_stroke = "3.2 in"
+mass = "1600 lb"
+valve = "first-order"
+valve_time_constant = "24.6 ms"
+zeta_oil = 0.09
+f_oil_hz = "27 Hz"
+platen_damping = "5 lbf*s/in"
+grounded_stiffness = "300 lbf/in"
+"""
+
+
+def test_first_order_table_poles_and_info(tmp_path):
+    f = tmp_path / "first.toml"
+    f.write_text(FIRST_ORDER_TABLE)
+    data = _json(["table", "poles", "--table", str(f), "--json"])
+    p = TableParameters.from_toml(f)
+    assert len(data["poles"]) == 4 and data["stable"] is True  # four states: one valve pole
+    got = np.sort_complex(np.array([complex(r["real"], r["imag"]) for r in data["poles"]]))
+    np.testing.assert_allclose(got, np.sort_complex(LinearTable(p).poles()), rtol=1e-12)
+    assert {r["label"] for r in data["poles"]} == {"p1", "p2", "p4", "p5"}
+    info = _json(["table", "info", "--table", str(f), "--json"])["parameters"]
+    assert info["valve"] == "first-order" and info["valve_time_constant"] == pytest.approx(0.0246)
+    assert info["platen_damping"] == 5.0 and info["grounded_stiffness"] == 300.0
+    assert "valve_poles_hz" not in info and info["d"] == pytest.approx(p.d)  # d from the ratings
+    res = runner.invoke(app, ["table", "info", "--table", str(f)])
+    assert res.exit_code == 0 and "valve_time_constant" in res.stdout and "first-order" in res.stdout
+
+
+def test_a_key_of_another_valve_kind_is_refused_naming_it(tmp_path):
+    f = tmp_path / "bad.toml"
+    f.write_text(FIRST_ORDER_TABLE + 'valve_poles_hz = ["70 Hz", "110 Hz"]\n')
+    res = subprocess.run(
+        [str(IMIL), "table", "poles", "--table", str(f)], capture_output=True, text=True, timeout=120
+    )
+    assert res.returncode == 2 and res.stdout == ""
+    assert (
+        res.stderr.count("\n") == 1 and "valve_poles_hz: expected no key of another valve kind" in res.stderr
+    )
