@@ -94,6 +94,9 @@ TF_COEFFICIENTS = "coefficients in internal units (in, in/s**2, lbf, psi; s in r
 _PATH_PATTERNS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"(^|\.)(H_\w+\.)?(num|den)$"), TF_COEFFICIENTS),
     (re.compile(r"(^|\.)poles\.(real|imag)$"), "radian / second"),
+    # a transfer function as zeros, poles ([re, im] pairs) and gain (TransferFunction.to_zpk)
+    (re.compile(r"(^|\.)H_\w+\.(zeros|poles)$"), "radian / second"),
+    (re.compile(r"(^|\.)H_\w+\.gain$"), TF_COEFFICIENTS),
 )
 
 #: The interlocks of a run or a drive file (``provenance.interlocks.stroke``): the lab file's limits.

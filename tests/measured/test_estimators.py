@@ -127,6 +127,11 @@ def test_identify_a_random_drive_with_welch(tmp_path, imil):
         assert abs(np.log(pole["frequency_hz"] / true)) < 3 * sigma, pole
     lo, hi = got["ci95_dc_gain"]
     assert abs(got["dc_gain"] - 1.0) < 3 * (hi - lo) / (2 * 1.96)
+    # the table file it wrote is an LTI table that --table reads (issue 13's layout), with the fit's poles
+    table = imil("table", "poles", "--table", tmp_path / "t.toml", "--json")
+    assert table.returncode == 0, table.stderr
+    read = sorted({round(p["frequency_hz"], 6) for p in json.loads(table.stdout)["poles"]})
+    np.testing.assert_allclose(read, sorted(p["frequency_hz"] for p in got["poles"]), rtol=1e-6)
 
 
 @pytest.mark.parametrize("file_format", ["csv", "rmc75e"])
