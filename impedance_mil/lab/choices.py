@@ -353,11 +353,12 @@ def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any
         from_report=used,
     )
     if mil:
-        weight = article_weight(cast(SpecimenChoice, parts["specimen"]), cfg, used)
         if design is not None and design.vs is not None and choices.vs is None:
+            # the designed VS as it is: no preset is fitted to the article, nothing taken from the report
             parts["vs_spec"] = vs_of_design(design, choices)
         else:
             name = _pick(choices.vs, cfg.vs_preset, "vs.preset", used)
+            weight = article_weight(cast(SpecimenChoice, parts["specimen"]), cfg, used)
             spec = resolve(name, choices.vs_overrides, weight)
             if design is not None:  # a VS asked for must be the designed one
                 vs_of_design(design, choices, spec)

@@ -55,6 +55,9 @@ def test_a_design_file_runs_bit_for_bit_as_the_run_that_designs_it(
     assert b["vs"] == "SD2" and b["fc_hz"] == 80.0
     assert b["design_file"] == str(design_files["sd2"]) and b["design_method"] == "filter"
     assert a["design_file"] is None and "fc" not in "".join(b["from_report"])  # the cut-off is the file's
+    # the designed VS is not a preset fitted to the report's article: nothing of the VS from the report
+    assert "specimen.article_weight" in a["from_report"] and "specimen.article_weight" not in b["from_report"]
+    assert "vs.preset" not in b["from_report"]
 
 
 def test_the_run_executes_the_exported_controller(design_files):
