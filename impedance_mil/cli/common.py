@@ -64,7 +64,7 @@ def output_units(units: str | None, lab: str | None = None, table: Path | None =
     if lab is None and table is not None and is_lti_table_file(table):
         return UnitSystem.US  # an LTI table file has no lab keys
     if lab is not None or table is not None:
-        return load_lab(lab, table=table).units
+        return load_lab(lab, table=table, accept_lti=True).units  # the units only: any table will do
     return UnitSystem.US
 
 
@@ -109,7 +109,7 @@ def table_parameters(
     the physical parameters; :func:`table_definition` takes either).
     """
     if lab is not None or table is not None:
-        return load_lab(lab, table=table, overrides=parse_overrides(sets)).table
+        return load_lab(lab, table=table, overrides=parse_overrides(sets)).physical_table()
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
 
 

@@ -174,7 +174,7 @@ def motion(
     shown = output_units(units, lab, table)
     folder = _folder(output)
     setup = lab_setup(table, sets, lab)
-    params, interlocks = setup.table, setup.limits
+    params, interlocks = setup.physical_table(), setup.limits
     weight = weight_option("--specimen-weight", specimen_weight, setup)
     record = scaled_motion(source, motion_units, time_scale, pga, "SOURCE", "--motion-units")
     played = record.resampled(params.loop_time).baseline_corrected()

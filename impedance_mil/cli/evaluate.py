@@ -101,7 +101,7 @@ def evaluate(
     if page is not None and page.resolve() == out.resolve():
         raise ConfigError("--report", "a path other than the run file (-o)", str(report))
     setup = lab_setup(table, None, lab)  # the table, and the sensors clipping is judged against
-    params = setup.table
+    params = setup.physical_table()
     cmap = channel_map(channels, channels_file, rate)
     rec = read_lab_recording(
         recording,

@@ -143,7 +143,7 @@ def identify(
     if not low < high:
         raise ConfigError("--band", "LOW < HIGH", band)
     setup = lab_setup(table, None, lab)  # the table, and the sensors clipping is judged against
-    params = setup.table
+    params = setup.physical_table()
     drv = read_drive(drive) if drive is not None else None
     expected = drv.sample_rate_hz if drv is not None else 1.0 / params.loop_time
     source = (

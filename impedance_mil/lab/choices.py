@@ -28,6 +28,7 @@ from ..design import ControllerDesign
 from ..errors import ConfigError, DataFileError
 from ..implement.export import designed_vs
 from ..plant import TableParameters
+from ..plant.lti_table import LTITable
 from ..plant.parameters import ratings_from_report, table_mapping
 from ..plausibility import check_specimen_weight
 from ..report_config import ReportConfig, report_config
@@ -326,7 +327,7 @@ def uses_lab_file(choices: Choices) -> bool:
 def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any]:
     used: dict[str, Any] = {}
     if uses_lab_file(choices):
-        setup = load_lab(choices.lab, table=choices.table, overrides=choices.table_overrides)
+        setup = load_lab(choices.lab, table=choices.table, overrides=choices.table_overrides, accept_lti=True)
         if choices.lab is not None and setup.is_report:
             used["lab"] = setup.name
         choices = with_lab_defaults(choices, setup)
@@ -344,7 +345,7 @@ def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any
                 choices.key("fc_hz"), f"no cut-off with {choices.key('design')} (the design holds its own)"
             )
         choices = replace(choices, fc_hz=design.fc_hz)
-    parts = dict(
+    parts: dict[str, Any] = dict(
         table=table,
         controller=choose_controller(choices, cfg, used, allow_none=not mil),
         lab=lab,
@@ -424,7 +425,7 @@ def frf_test(
     used: dict[str, Any] = {}
     setup = None
     if uses_lab_file(choices):
-        setup = load_lab(choices.lab, table=choices.table, overrides=choices.table_overrides)
+        setup = load_lab(choices.lab, table=choices.table, overrides=choices.table_overrides, accept_lti=True)
         table = setup.table
     else:
         table = choose_table(None, choices.table_overrides, cfg, used)
@@ -434,6 +435,11 @@ def frf_test(
     )
     delay = _pick(delay, cfg.frf.delay, "frf.delay", used)
     kps: tuple[float, ...] = ()
+    if kp_study and isinstance(table, LTITable):
+        raise ConfigError(
+            choices.key("kp_study"),
+            "a physical table (an LTI table's hydraulic loop, K_p in it, is inside its model)",
+        )
     if kp_study:
         kps = tuple(_pick(kp_values, cfg.frf.kp_values, "frf.kp_values", used))
         if specimen.specimen is not None:

@@ -34,6 +34,7 @@ import numpy as np
 from ..design import ControllerDesign
 from ..errors import ConfigError, DesignRefused
 from ..plant import TableParameters
+from ..plant.lti_table import LTITable
 from ..signals import GroundMotion
 from ..signals.multisine import report_multisine
 from ..specimens import FluidVessel
@@ -208,8 +209,8 @@ class TrackingTest:
 
     Attributes
     ----------
-    table : TableParameters
-        Table model (the virtual table is derived from it).
+    table : TableParameters or LTITable
+        Table model (the virtual table is derived from it, or is it: an LTI table).
     specimen : SpecimenChoice
     motion : MotionChoice
     controller : ControllerChoice
@@ -219,7 +220,7 @@ class TrackingTest:
         (key of ``data/report/config.toml`` -> value, internal units).
     """
 
-    table: TableParameters
+    table: TableParameters | LTITable
     specimen: SpecimenChoice
     motion: MotionChoice
     controller: ControllerChoice
@@ -428,6 +429,19 @@ def _kp_row(kp: float, exp: FrfExperiment) -> dict[str, Any]:
     }
 
 
+def _table_file(table: TableParameters | LTITable) -> dict[str, Any]:
+    """What the FRF run states of the table it compares with: the oil column and K_p, or the LTI model's kind."""
+    if isinstance(table, LTITable):
+        return {"kind": table.kind, "delay": table.delay, "outputs": list(table.outputs)}
+    return {
+        "omega_oil_rad_s": table.omega_oil,
+        "f_oil_hz": table.f_oil_hz,
+        "zeta_oil": table.zeta_oil,
+        "d": table.d,
+        "Kp": table.Kp,
+    }
+
+
 @dataclass(frozen=True)
 class FrfTest:
     """The multisine test of Section 4.5 and the identification of omega_oil, zeta_oil and d.
@@ -448,7 +462,7 @@ class FrfTest:
         Values taken from the report's setup (as :class:`TrackingTest`).
     """
 
-    table: TableParameters
+    table: TableParameters | LTITable
     specimen: SpecimenChoice
     peak_in: float
     delay: str
@@ -482,7 +496,8 @@ class FrfTest:
     def run(self, on_step: Callable[[str], None] | None = None) -> FrfOutcome:
         """Run the test, then (if it completed) the K_p study; ``on_step(text)`` is told of each K_p."""
         options = self._options()
-        bare = self.specimen.specimen is None
+        # an LTI table has no physical parameters to identify: its FRFs are measured against its model
+        bare = self.specimen.specimen is None and not isinstance(self.table, LTITable)
         exp = run_frf(self.table, specimen=self.specimen.specimen, identify=bare, **options)
         kps = self.kp_values if exp.completed else ()
         study = []
@@ -519,13 +534,7 @@ class FrfTest:
             "seed": exp.run.config.get("seed"),
             **identified(exp),
             **errors,
-            "table_file": {
-                "omega_oil_rad_s": p.omega_oil,
-                "f_oil_hz": p.f_oil_hz,
-                "zeta_oil": p.zeta_oil,
-                "d": p.d,
-                "Kp": p.Kp,
-            },
+            "table_file": _table_file(p),
             "kp_study": [_kp_row(kp, e) for kp, e in zip(outcome.kp_values, outcome.study)],
             "from_report": dict(self.from_report),
         }

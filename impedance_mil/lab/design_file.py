@@ -29,6 +29,7 @@ from ..design import ControllerDesign, load_design
 from ..errors import ConfigError
 from ..implement.export import LOOP_TIME_RTOL
 from ..plant import TableParameters
+from ..plant.lti_table import LTITable
 from ..plant.parameters import FIELDS
 
 #: The form of the design each kind of run executes.
@@ -59,7 +60,9 @@ def read_design(path: str | Path, kind: str, key: str = "--design") -> Controlle
     return design
 
 
-def check_loop_time(design: ControllerDesign, table: TableParameters, key: str = "--design") -> None:
+def check_loop_time(
+    design: ControllerDesign, table: TableParameters | LTITable, key: str = "--design"
+) -> None:
     """Refuse a design discretized for another loop time than the run's table [s]."""
     if not math.isclose(design.loop_time_s, table.loop_time, rel_tol=LOOP_TIME_RTOL):
         raise ConfigError(
@@ -69,10 +72,18 @@ def check_loop_time(design: ControllerDesign, table: TableParameters, key: str =
         )
 
 
-def table_differences(design: ControllerDesign, table: TableParameters) -> list[str]:
-    """One sentence per parameter in which the design's table differs from the run's (internal units)."""
+def table_differences(design: ControllerDesign, table: TableParameters | LTITable) -> list[str]:
+    """One sentence per parameter in which the design's table differs from the run's (internal units).
+
+    A design file records the physical parameters of its table, none for an
+    LTI table: a run on an LTI table cannot be compared with any (one sentence says so).
+    """
     if not design.table:
         return ["the design file records no table parameters, so it cannot be compared with the run's table"]
+    if isinstance(table, LTITable):
+        return [
+            "the design was made for a physical table and the run's table is an LTI model: not comparable"
+        ]
     run = table.to_dict()
     out = []
     for name, value in run.items():

@@ -35,6 +35,7 @@ from ..errors import ConfigError
 from ..implement import MILRuntime
 from ..implement.export import controller_from_design
 from ..plant import TableParameters
+from ..plant.lti_table import LTITable
 from ..plant.nonlinear import NonlinearTable
 from ..report_config import report_config
 from ..signals import GroundMotion
@@ -80,7 +81,7 @@ class FrfExperiment:
     frf: dict
     model: dict
     identification: TableIdentification | None
-    params: TableParameters
+    params: TableParameters | LTITable
     delay: str
 
     @property
@@ -142,9 +143,13 @@ class ControlledRun:
 
 
 def _table(params, table, kp):
-    """The virtual table of an experiment: ``table`` (a physical or LTI table), else ``from_linear(params)``."""
+    """The virtual table of an experiment: ``table`` (a physical or LTI table), else that of ``params``.
+
+    ``params``: physical parameters (``NonlinearTable.from_linear``), or a table
+    given as a linear model (an :class:`~impedance_mil.plant.lti_table.LTITable`, run as it is).
+    """
     if table is None:
-        table = NonlinearTable.from_linear(params)
+        table = params if isinstance(params, LTITable) else NonlinearTable.from_linear(params)
     table = virtual_table_for(table)
     if kp is None:
         return table
@@ -174,7 +179,7 @@ def _model_responses(p, table, f, delay, channels) -> tuple[dict, dict]:
 
 
 def run_frf(
-    params: TableParameters,
+    params: TableParameters | LTITable,
     *,
     multisine: Multisine | None = None,
     specimen=None,
@@ -227,8 +232,16 @@ def run_frf(
     """
     cfg = report_config()
     delay = cfg.frf.delay if delay is None else delay
+    if identify and specimen is None and isinstance(params, LTITable):
+        raise ConfigError(
+            "identify",
+            "no identification of omega_oil, zeta_oil and d for an LTI table (it has no physical "
+            "parameters; fit a model to a recording with imil identify)",
+        )
     vt = _table(params, table, kp)
-    p = params if kp is None else params.replace(Kp=kp)
+    p = (
+        params if kp is None or isinstance(params, LTITable) else params.replace(Kp=kp)
+    )  # _table refused kp for LTI
     ms = multisine or design_multisine(peak=cfg.frf.peak_in, sample_rate_hz=1.0 / vt.loop_time)
     if not np.isclose(ms.sample_rate_hz * vt.loop_time, 1.0):
         raise ConfigError(
@@ -266,13 +279,13 @@ def run_frf(
             model[name] = model[name] + model_w[name] * ratio
     ident = (
         identify_table(est["z"], p, free=free, delay=delay, f_range_hz=f_range_hz)
-        if identify and specimen is None
+        if identify and specimen is None and isinstance(p, TableParameters)  # LTI refused above
         else None
     )
     return FrfExperiment(run, ms, est, model, ident, p, delay)
 
 
-def kp_study(params: TableParameters, kp_values=None, **kwargs) -> KpStudy:
+def kp_study(params: TableParameters | LTITable, kp_values=None, **kwargs) -> KpStudy:
     """:func:`run_frf` with identification at each K_p [V/psi] (Sections 4.5.3.1, 8.3.3).
 
     ``kp_values`` None: the report's (``[frf] kp_values`` of the report's setup).
@@ -293,13 +306,13 @@ def _report_choices(fc_hz, feedback, precision) -> tuple[float, str, str]:
     )
 
 
-def tracking_design(params: TableParameters, fc_hz: float | None = None) -> ControllerDesign:
+def tracking_design(params: TableParameters | LTITable, fc_hz: float | None = None) -> ControllerDesign:
     """The tracking controller of :func:`run_tracking` (``z_vs = a_g``) at ``fc_hz`` [Hz] (default the report's)."""
     fc_hz = report_config().design.fc_hz if fc_hz is None else fc_hz
     return design_controller(table_model(params), form="tracking", fc_hz=fc_hz, emit_warnings=False)
 
 
-def mil_design(params: TableParameters, vs, fc_hz: float | None = None) -> ControllerDesign:
+def mil_design(params: TableParameters | LTITable, vs, fc_hz: float | None = None) -> ControllerDesign:
     """The standardized MIL controller of :func:`run_mil` for ``vs`` at ``fc_hz`` [Hz] (default the report's).
 
     Made with ``linearization="open-fh"``: its constraint verdicts are the
@@ -376,7 +389,7 @@ def _controlled(
 
 
 def run_tracking(
-    params: TableParameters,
+    params: TableParameters | LTITable,
     motion,
     *,
     specimen=None,
@@ -443,7 +456,7 @@ def run_tracking(
 
 
 def run_mil(
-    params: TableParameters,
+    params: TableParameters | LTITable,
     vs,
     motion,
     *,

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -33,11 +33,14 @@ from ..display import UnitSystem, unit_system
 from ..errors import ConfigError
 from ..implement.io_units import IOUnits
 from ..plant import TableParameters
+from ..plant.lti_table import LTITable
 from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
-from ..plant.table_files import is_lti_table_file
+from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .labsensors import Converter, SensorSetup, sensor_setup
+from .lti_lab import lti_lab_limits, lti_sensor_ranges
+from .lti_plant import lti_limits, virtual_table_for
 from .setup import MAX_OUTPUT_DELAY, SafetyLimits
 
 #: Name of the shipped lab of the report (its sections live in data/report/config.toml).
@@ -139,10 +142,12 @@ class LabSetup:
         ``report`` or the file's name.
     path : Path
         The file read.
-    table : TableParameters
+    table : TableParameters or LTITable
         The table (its loop time, output delay in loops and valve command
         limit as the lab sets them: the linear models of
-        :mod:`impedance_mil.plant` built from it are delayed as the lab's runs).
+        :mod:`impedance_mil.plant` built from it are delayed as the lab's runs),
+        or a table given as a linear model (only with ``load_lab(accept_lti=True)``;
+        its loop time as the lab sets it).
     limits : SafetyLimits
         The interlocks.
     sensors : SensorSetup
@@ -157,7 +162,7 @@ class LabSetup:
 
     name: str
     path: Path
-    table: TableParameters
+    table: TableDefinition
     limits: SafetyLimits
     sensors: SensorSetup
     controller: ControllerSetup
@@ -174,15 +179,32 @@ class LabSetup:
     def is_report(self) -> bool:
         return self.name == REPORT_LAB
 
+    def physical_table(self) -> TableParameters:
+        """The table's physical parameters (a lab loaded without ``accept_lti`` always has them).
+
+        Raises
+        ------
+        ConfigError
+            The table is an LTI one (named ``table.file``).
+        """
+        if isinstance(self.table, LTITable):
+            raise ConfigError("table.file", "a physical table file: an LTI table ([model]) has no parameters")
+        return self.table
+
     def to_dict(self) -> dict[str, Any]:
         """The effective setup with the source of each value (``imil lab show --json``)."""
-        limits = self.limits.kernel_values(NonlinearTable.from_linear(self.table))._asdict()
+        if isinstance(self.table, LTITable):
+            limits = lti_limits(self.limits, virtual_table_for(self.table)).values._asdict()
+            command = None  # no valve
+        else:
+            limits = self.limits.kernel_values(NonlinearTable.from_linear(self.table))._asdict()
+            command = self.table.valve_command_limit
         return {
             "lab": self.name,
             "file": str(self.path),
             "table": self.table.to_dict(),
             "limits": {k: (None if math.isinf(v) else v) for k, v in limits.items()}
-            | {"valve_command": self.table.valve_command_limit},
+            | {"valve_command": command},
             "sensors": {
                 "clipping": self.sensors.clipping,
                 "channels": [
@@ -262,12 +284,18 @@ def load_lab(
     *,
     table: Path | None = None,
     overrides: Mapping[str, Any] | None = None,
+    accept_lti: bool = False,
 ) -> LabSetup:
     """Read and validate a lab (``name``: ``report``, the default, or a file), or a bare ``table`` file.
 
     ``overrides`` are ``--set`` values of the table.  Nothing of the report is
     taken for a lab that is not the report's: missing keys take
-    :data:`GENERIC_DEFAULTS`.
+    :data:`GENERIC_DEFAULTS`.  ``accept_lti``: the caller takes a table given
+    as a linear model (:class:`~impedance_mil.plant.lti_table.LTITable`, a
+    ``[model]`` file; the virtual lab runs it); otherwise such a table is
+    refused naming ``--table`` or ``table.file`` (the caller needs the
+    physical parameters).  An LTI table's lab takes no generic default it
+    cannot size (:data:`impedance_mil.lab.lti_lab.LTI_DEFAULTS`).
 
     Raises
     ------
@@ -278,14 +306,15 @@ def load_lab(
     """
     if name is not None and table is not None:
         raise ConfigError("--lab", "either --lab or --table (a table file is a lab with only a table)")
-    if table is not None and is_lti_table_file(table):
+    lti_file = table is not None and is_lti_table_file(table)
+    if lti_file and not accept_lti:
         raise ConfigError(
             "--table",
-            "a physical table file ([table] keys): this command needs the physical parameters or the "
-            "virtual lab, which does not take an LTI table ([model]) yet",
+            "a physical table file ([table] keys): this command needs the physical parameters, "
+            "an LTI table ([model]) has none",
             str(table),
         )
-    if table is not None and not _has_sections(read_toml(table)):
+    if table is not None and (lti_file or not _has_sections(read_toml(table))):
         path, data, label = Path(table), {"table": {"file": str(table)}}, Path(table).name
         base = Path.cwd()
     else:
@@ -305,12 +334,21 @@ def load_lab(
     if unknown:
         raise ConfigError(f"{where}[{unknown[0]}]", "one of the sections " + ", ".join(LAB_SECTIONS))
     sources: dict[str, str] = {}
-    params = _table(data.get("table"), base, overrides or {}, where, sources)
+    params = _table(data.get("table"), base, overrides or {}, where, sources, accept_lti)
     controller = _controller(data.get("controller"), params, where, sources)
-    params = params.replace(loop_time=controller.loop_time, output_delay_loops=controller.output_delay)
-    limits, command = _limits(data.get("limits"), params, controller, where, sources)
-    params = params.replace(valve_command_limit=command)
-    sensors = sensor_setup(data.get("sensors"), params, controller.adc, where)
+    if isinstance(params, LTITable):
+        params = replace(params, loop_time=controller.loop_time)
+        limits = lti_lab_limits(
+            _mapping(data.get("limits"), "limits", where), params, where, sources, LIMIT_FIELDS
+        )
+    else:
+        params = params.replace(loop_time=controller.loop_time, output_delay_loops=controller.output_delay)
+        limits, command = _limits(data.get("limits"), params, controller, where, sources)
+        params = params.replace(valve_command_limit=command)
+    generic = None
+    if isinstance(params, LTITable) and data.get("sensors") is None:
+        generic = lti_sensor_ranges(params, where)
+    sensors = sensor_setup(data.get("sensors"), params, controller.adc, where, generic)
     sources["sensors"] = sensors.source
     specimen = _specimen(data.get("specimen"), base, where, sources)
     sources["units"] = "file" if units_given else "default"
@@ -331,8 +369,8 @@ def _mapping(section: Any, name: str, where: str) -> Mapping[str, Any]:
 
 
 def _table(
-    section: Any, base: Path, overrides: Mapping[str, Any], where: str, sources: dict
-) -> TableParameters:
+    section: Any, base: Path, overrides: Mapping[str, Any], where: str, sources: dict, accept_lti: bool
+) -> TableDefinition:
     table = dict(_mapping(section, "table", where))
     if not table:
         raise ConfigError(f"{where}table", 'a [table] section (file = "TABLE.toml" or the table keys)')
@@ -340,11 +378,20 @@ def _table(
     if "file" in table:
         file = base / str(table.pop("file"))
         if is_lti_table_file(file):
-            raise ConfigError(
-                f"{where}table.file",
-                "a physical table file: a lab file does not take an LTI table ([model]) yet",
-                file.name,
-            )
+            if not accept_lti:
+                raise ConfigError(
+                    f"{where}table.file",
+                    "a physical table file: this command needs the physical parameters, "
+                    "an LTI table ([model]) has none",
+                    file.name,
+                )
+            if table:
+                raise ConfigError(
+                    f"{where}table.{next(iter(table))}",
+                    f"no table keys beside the LTI table file {file.name} (its model is the table)",
+                )
+            sources["table"] = f"file {file.name}"
+            return read_table_file(file, overrides)
         keys.update(table_mapping(read_toml(file), file))
         sources["table"] = f"file {file.name}"
     else:
@@ -363,13 +410,15 @@ def _given(section: Mapping[str, Any], fields: Mapping[str, Field], where: str) 
     return {k: v for k, v in parsed.items() if k in section}
 
 
-def _controller(section: Any, table: TableParameters, where: str, sources: dict) -> ControllerSetup:
+def _controller(section: Any, table: TableDefinition, where: str, sources: dict) -> ControllerSetup:
     raw = dict(_mapping(section, "controller", where))
     text = {k: raw.pop(k) for k in _CONTROLLER_TEXT if k in raw}
     given = _given(raw, CONTROLLER_FIELDS, f"{where}controller.")
     for key in CONTROLLER_FIELDS | dict.fromkeys(_CONTROLLER_TEXT):
         sources[f"controller.{key}"] = "file" if key in given or key in text else "default"
     loop = given.get("loop_time", table.loop_time)
+    if not loop > 0:  # an LTI table of an analog loop (loop_time 0) runs at the lab's loop time
+        raise ConfigError(f"{where}controller.loop_time", "the controller loop time (the table states none)")
     loops = _output_delay(text.get("output_delay", 1), loop, f"{where}controller.output_delay")
     precision = text.get("precision", "single")
     if precision not in PRECISIONS:
@@ -386,7 +435,8 @@ def _controller(section: Any, table: TableParameters, where: str, sources: dict)
     if not 2 <= bits <= 32:
         raise ConfigError(f"{where}controller.adc_bits", "a whole number of bits from 2 to 32", bits)
     adc = Converter(bits, given.get("adc_range", 10.0))
-    dac = given.get("dac_range", table.valve_command_limit)
+    # an LTI table has no valve: its command is a position, and the DAC range is the converters'
+    dac = given.get("dac_range", adc.range_v if isinstance(table, LTITable) else table.valve_command_limit)
     io_units = IOUnits.parse(text.get("io_units", "us"), f"{where}controller.io_units")
     return ControllerSetup(loop, round(loops), precision, feedback, substeps, adc, dac, io_units)
 

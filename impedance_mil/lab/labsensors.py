@@ -40,11 +40,12 @@ from __future__ import annotations
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, cast
 
 from ..config import quantity
 from ..errors import ConfigError
 from ..plant import TableParameters
+from ..plant.lti_table import LTITable
 from ..plausibility import PlausibilityWarning
 from ..specimens.sensors import FILTER_ORDERS, Sensor, SensorSuite
 from .setup import DEFAULT_NOISE_V, default_sensors
@@ -94,15 +95,24 @@ class Converter:
     range_v: float
 
 
-def generic_sensors(table: TableParameters, adc: Converter) -> SensorSuite:
-    """One channel per loop quantity, sized from ``table`` (see the module docstring)."""
+def generic_ranges(table: TableParameters) -> dict[str, float]:
+    """Full scale of each generic channel of a physical table (internal units; module docstring)."""
     stall = table.piston_area * (table.supply_pressure - table.return_pressure)
-    ranges = {
+    return {
         "acceleration": 2.0 * stall / table.mass,
         "displacement": 1.25 * table.mid_stroke,
         "differential_pressure": 1.25 * (table.supply_pressure - table.return_pressure),
         "load_cell": 2.0 * stall,
     }
+
+
+def generic_sensors(table: TableParameters | Mapping[str, float], adc: Converter) -> SensorSuite:
+    """One channel per loop quantity, sized from ``table`` (module docstring), or of the given full scales.
+
+    ``table`` may be the full scale [internal unit] of each channel by quantity
+    (what :func:`impedance_mil.lab.lti_lab.lti_sensor_ranges` gives an LTI table).
+    """
+    ranges = table if isinstance(table, Mapping) else generic_ranges(table)
     return SensorSuite(
         tuple(
             _sensor(name, name, full / adc.range_v, 0.0, 1.0, DEFAULT_NOISE_V, adc.bits, adc)
@@ -111,10 +121,25 @@ def generic_sensors(table: TableParameters, adc: Converter) -> SensorSuite:
     )
 
 
-def sensor_setup(section: Any, table: TableParameters, adc: Converter, where: str) -> SensorSetup:
-    """The :class:`SensorSetup` of a ``[sensors]`` section (None: :func:`generic_sensors`)."""
+def sensor_setup(
+    section: Any,
+    table: TableParameters | LTITable,
+    adc: Converter,
+    where: str,
+    generic: Mapping[str, float] | None = None,
+) -> SensorSetup:
+    """The :class:`SensorSetup` of a ``[sensors]`` section (None: :func:`generic_sensors`).
+
+    ``generic``: the generic channels' full scales when they are not sized from
+    ``table``'s physical parameters (an LTI table); ``table`` then gives only its loop time.
+    """
     if section is None:
-        return SensorSetup(generic_sensors(table, adc), "warn", "default")
+        if generic is None and isinstance(table, LTITable):
+            raise ConfigError(
+                f"{where}sensors", "a [sensors] section or the LTI table's generic channel ranges"
+            )
+        sized = generic if generic is not None else cast(TableParameters, table)
+        return SensorSetup(generic_sensors(sized, adc), "warn", "default")
     if not isinstance(section, Mapping):
         raise ConfigError(f"{where}sensors", "a table of [sensors.NAME] channels")
     clipping = section.get("clipping", "warn")

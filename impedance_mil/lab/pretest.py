@@ -17,7 +17,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from ..errors import ConfigError
 from ..plant import TableParameters
+from ..plant.lti_table import LTITable
 from ..signals import GroundMotion, MotionCheck, TableLimits, check_motion
 from ..units import G0, weight_to_mass
 from ..virtual.excitation import rigid_article_response
@@ -134,7 +136,7 @@ class Pretest:
 def basemat_check(
     vs,
     motion: GroundMotion,
-    params: TableParameters,
+    params: TableParameters | LTITable,
     limits: TableLimits,
     specimen_weight_lbf: float,
     interlocks: SafetyLimits,
@@ -162,8 +164,43 @@ def basemat_check(
     return MotionCheck(all(c.ok for c in checks), checks, None, full.max_pga_g)
 
 
+def table_limits(
+    params: TableParameters | LTITable, specimen_weight_lbf: float, interlocks: SafetyLimits
+) -> TableLimits:
+    """The capacity of the table with the article: of its physical parameters, or an LTI table's stated one.
+
+    An LTI table (:mod:`impedance_mil.plant.capacity`) has no valve for the
+    flow check; its stroke and velocity are its stated ones, else the lab's
+    interlocks; its force capacity is the stated stall force, else the lab's
+    actuator-force interlock; its moving mass must be stated.
+
+    Raises
+    ------
+    ConfigError
+        An LTI table without ``capacity.mass``, or without ``capacity.force``
+        and an actuator-force interlock.
+    """
+    if not isinstance(params, LTITable):
+        return TableLimits.from_table(params, specimen_weight=specimen_weight_lbf)
+    c = params.capacity
+    force = c.force if c.force is not None else interlocks.actuator_force
+    if c.mass is None:
+        raise ConfigError("capacity.mass", "the LTI table's moving mass (the pre-test check needs it)")
+    if force is None:
+        raise ConfigError(
+            "capacity.force",
+            "the LTI table's stall force, or a limits.actuator_force (the pre-test check needs one)",
+        )
+    return TableLimits(
+        stroke_in=interlocks.stroke if c.stroke is None else c.stroke,
+        velocity_in_s=interlocks.velocity if c.velocity is None else c.velocity,
+        force_lbf=float(force),
+        moving_mass=c.mass + weight_to_mass(specimen_weight_lbf),
+    )
+
+
 def pretest(
-    params: TableParameters,
+    params: TableParameters | LTITable,
     specimen_weight_lbf: float,
     motion: GroundMotion,
     interlocks: SafetyLimits,
@@ -173,8 +210,8 @@ def pretest(
 
     Parameters
     ----------
-    params : TableParameters
-        The table.
+    params : TableParameters or LTITable
+        The table (:func:`table_limits`).
     specimen_weight_lbf : float
         Weight of the test article on the table [lbf] (0 for the bare table).
     motion : GroundMotion
@@ -184,7 +221,7 @@ def pretest(
     vs : VirtualSystem, optional
         The VS of a MIL run.
     """
-    limits = TableLimits.from_table(params, specimen_weight=specimen_weight_lbf)
+    limits = table_limits(params, specimen_weight_lbf, interlocks)
     basemat = (
         None if vs is None else basemat_check(vs, motion, params, limits, specimen_weight_lbf, interlocks)
     )

@@ -16,6 +16,7 @@ from ..config import quantity
 from ..errors import ConfigError
 from ..lti import StateSpace
 from ..systems import TransferFunction
+from .capacity import TableCapacity
 from .linear import DEFAULT_PADE_ORDER, MAX_PADE_ORDER
 from .lti_table import (
     DERIVED_OUTPUTS,
@@ -34,8 +35,11 @@ _PATH_KEYS = tuple(f"H_{o}{i}" for o in LTI_OUTPUTS for i in LTI_INPUTS)
 _SS_KEYS = ("A", "B", "C", "D", "inputs", "outputs")
 
 
-def lti_table_from_mapping(section: Any, where: str = "") -> LTITable:
-    """An :class:`LTITable` from the ``[model]`` mapping of a file (keys named ``{where}model.KEY``)."""
+def lti_table_from_mapping(section: Any, where: str = "", capacity: TableCapacity | None = None) -> LTITable:
+    """An :class:`LTITable` from the ``[model]`` mapping of a file (keys named ``{where}model.KEY``).
+
+    ``capacity`` is the file's ``[capacity]`` (:mod:`.capacity`; default: none stated).
+    """
     key = f"{where}model."
     if not isinstance(section, Mapping):
         raise ConfigError(f"{where}model", "a [model] table", section)
@@ -68,7 +72,7 @@ def lti_table_from_mapping(section: Any, where: str = "") -> LTITable:
     else:
         model = _path_model(section, units, key, kind)
     try:
-        return LTITable(model, loop_time, delay, kind, order, allow)
+        return LTITable(model, loop_time, delay, kind, order, allow, capacity or TableCapacity())
     except ConfigError as exc:
         raise ConfigError(f"{key}{exc.key}", exc.expected, exc.got) from None
 

@@ -59,7 +59,7 @@ lists it once.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -67,6 +67,7 @@ import numpy as np
 from ..errors import ConfigError
 from ..lti import StateSpace
 from ..systems import CANCEL_RTOL, TransferFunction, pole_table
+from .capacity import TableCapacity
 from .linear import DEFAULT_PADE_ORDER, MAX_PADE_ORDER, command_delayed, first_order_lag, pade_state_space
 from .statespace import TableStateSpace
 
@@ -113,6 +114,10 @@ class LTITable:
         Order of the Pade approximation (``delay="pade"``).
     allow_unstable : bool
         Accept poles of ``model`` in the closed right half plane.
+    capacity : TableCapacity
+        Stroke, velocity, stall force, moving mass and piston area, as far as
+        the file states them (``[capacity]``; :mod:`.capacity`): what the
+        virtual lab needs beside the model.
 
     Raises
     ------
@@ -136,6 +141,7 @@ class LTITable:
     kind: str = "state-space"
     pade_order: int = DEFAULT_PADE_ORDER
     allow_unstable: bool = False
+    capacity: TableCapacity = field(default_factory=TableCapacity)
 
     def __post_init__(self):
         sys = self.model.system
@@ -200,6 +206,23 @@ class LTITable:
         B = np.concatenate([np.zeros((n, 1)), np.ones((1, 1))])
         C = np.hstack([part.C, part.D])
         return StateSpace(A, B, C, 0.0, self.loop_time, ("u",), (output,))
+
+    # -------------------------------------------------------------- capacity
+    # The names the virtual lab reads of any table (lab.lti_plant.virtual_table_for).
+    @property
+    def piston_area(self) -> float | None:
+        """A_p [in**2] if stated (``[capacity] piston_area``)."""
+        return self.capacity.piston_area
+
+    @property
+    def mass(self) -> float | None:
+        """Moving mass [lbf*s**2/in] if stated (``[capacity] mass``)."""
+        return self.capacity.mass
+
+    @property
+    def max_force(self) -> float | None:
+        """Stall force [lbf] if stated (``[capacity] force``)."""
+        return self.capacity.force
 
     # -------------------------------------------------------------- analysis
     def tf(self, output: str, input: str) -> TransferFunction:
@@ -313,6 +336,7 @@ class LTITable:
             "delay": self.delay,
             "pade_order": int(self.pade_order),
             "allow_unstable": bool(self.allow_unstable),
+            "capacity": self.capacity.to_dict(),
             "state_space": self.model.system.to_dict(),
         }
 

@@ -27,11 +27,15 @@ from typing import Any
 from ..config import read_toml
 from ..errors import ConfigError
 from ..systems import CANCEL_RTOL, TransferFunction
+from .capacity import TableCapacity
 from .frf_table import KIND as FRF_KIND
 from .lti_reader import lti_table_from_mapping
 from .lti_table import LTITable
 from .parameters import FIELDS, TableParameters, merge_overrides, table_mapping
 from .rational import RationalFit
+
+#: Sections of an LTI table file: the model, and what the table can do (:mod:`.capacity`).
+LTI_FILE_SECTIONS = ("model", "capacity")
 
 #: What a table file holds: the physical parameters, or a linear model.
 TableDefinition = TableParameters | LTITable
@@ -80,10 +84,11 @@ def read_table_file(path: str | Path, overrides: Mapping[str, Any] | None = None
             "a measured FRF table checks a design: imil design --table MODEL --frf FILE",
             FRF_KIND,
         )
-    extra = sorted(set(data) - {"model"})
+    extra = sorted(set(data) - set(LTI_FILE_SECTIONS))
     if extra:
-        raise ConfigError(f"{where}{extra[0]}", "only a [model] section in an LTI table file")
-    return lti_table_from_mapping(data["model"], where)
+        raise ConfigError(f"{where}{extra[0]}", "only [model] and [capacity] sections in an LTI table file")
+    capacity = TableCapacity.from_mapping(data["capacity"], where) if "capacity" in data else None
+    return lti_table_from_mapping(data["model"], where, capacity)
 
 
 def read_lti_table(path: str | Path) -> LTITable:
@@ -211,7 +216,21 @@ def lti_table_toml(table: LTITable, kind: str | None = None, header: Sequence[st
                         f"H_{o}{i} = {{ zeros = {_pairs(_conjugate(H.zeros()))}, "
                         f"poles = {_pairs(_conjugate(H.poles()))}, gain = {float(H.num[0])!r} }}"
                     )
+    stated = table.capacity.stated()
+    if stated:
+        lines += ["", "[capacity]"]
+        lines += [f'{k} = "{v!r} {_CAPACITY_FILE_UNITS[k]}"' for k, v in stated.items()]
     return _comment(header) + "\n".join(lines) + "\n"
+
+
+#: Internal unit of each ``[capacity]`` key as written in a table file.
+_CAPACITY_FILE_UNITS = {
+    "stroke": "in",
+    "velocity": "in/s",
+    "force": "lbf",
+    "mass": "lbf*s**2/in",
+    "piston_area": "in**2",
+}
 
 
 def _conjugate(roots) -> list[complex]:
