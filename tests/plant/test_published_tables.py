@@ -113,7 +113,9 @@ def test_lnec_closed_loop_is_the_sources_transfer_function():
     s = 1j * TWO_PI * f
     k_h = 4.0 * BETA_E * AREA**2 / V_T
     gain = AREA * k_h * K_P * KSV_KQ
-    hydraulic = AREA**2 * M_P * s**2 + (AREA**2 * C_T + K_PL * k_h * M_P) * s + AREA**2 * k_h + K_PL * C_T * k_h
+    hydraulic = (
+        AREA**2 * M_P * s**2 + (AREA**2 * C_T + K_PL * k_h * M_P) * s + AREA**2 * k_h + K_PL * C_T * k_h
+    )
     source = gain / (gain + s * (TAU_SV * s + 1.0) * hydraulic)
     got = LinearTable(lnec(), delay="none").state_space().frequency_response("x", "u", f)
     np.testing.assert_allclose(got, source, rtol=1e-12)
