@@ -282,7 +282,22 @@ def report_lab(cfg: ReportConfig, seed: int, used: dict, key: str = "seed") -> L
 
 
 def lab_choice(setup: LabSetup, seed: int, used: dict, key: str = "seed") -> LabChoice:
-    """The interlocks, sensors and substeps of a lab file; its generic defaults listed in ``used``."""
+    """The interlocks, sensors and substeps of a lab file; its generic defaults listed in ``used``.
+
+    Raises
+    ------
+    ConfigError
+        The table is analog (``loop_time`` 0, accepted by ``imil table`` and
+        ``imil design``): a virtual-lab run needs the controller's loop time,
+        named ``controller.loop_time`` of the lab.
+    """
+    if not setup.controller.loop_time > 0:
+        raise ConfigError(
+            f"{setup.name}: controller.loop_time",
+            "a positive loop time for a run in the virtual lab (the table is analog: give "
+            "[controller] loop_time in a lab file)",
+            setup.controller.loop_time,
+        )
     for name in setup.defaults:
         used[f"lab.{name}"] = "generic default"
     for name, source in setup.sources.items():

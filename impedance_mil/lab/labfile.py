@@ -417,8 +417,6 @@ def _controller(section: Any, table: TableDefinition, where: str, sources: dict)
     for key in CONTROLLER_FIELDS | dict.fromkeys(_CONTROLLER_TEXT):
         sources[f"controller.{key}"] = "file" if key in given or key in text else "default"
     loop = given.get("loop_time", table.loop_time)
-    if not loop > 0:  # an LTI table of an analog loop (loop_time 0) runs at the lab's loop time
-        raise ConfigError(f"{where}controller.loop_time", "the controller loop time (the table states none)")
     loops = _output_delay(text.get("output_delay", 1), loop, f"{where}controller.output_delay")
     precision = text.get("precision", "single")
     if precision not in PRECISIONS:

@@ -67,3 +67,18 @@ def test_info_and_poles_of_the_transfer_function_table():
     np.testing.assert_allclose(_poles(poles), np.sort_complex(read_table_file(RTHS).poles()), rtol=1e-12)
     freqs = sorted(round(r["frequency_hz"], 2) for r in poles["poles"])
     assert freqs == [7.68, 46.87, 46.87, 67.18, 67.18]
+
+
+def test_an_analog_table_designs_without_sampled_indices_and_is_refused_by_the_virtual_lab(imil, tmp_path):
+    # loop_time 0 (the LNEC model is continuous): imil design evaluates the continuous
+    # constraints and says there is no sampled-data margin (it divided by the loop time);
+    # a run needs the controller's loop time and is refused naming it, nothing written.
+    doc = _json(["design", "--table", LNEC, "--vs", "SD2", "--fc", "80", "--json"])
+    assert doc["constraints"][0]["passivity_margin_sampled_deg"] is None
+    assert any("analog table" in w for w in doc["warnings"])
+    out = tmp_path / "run.h5"
+    for args in (("simulate", "--vs", "SD2"), ("track",), ("frf",)):
+        res = imil(*args, "--table", LNEC, "-o", out)
+        lines = res.stderr.strip().splitlines()
+        assert res.returncode == 2 and len(lines) == 1 and "controller.loop_time" in lines[0], res.stderr
+        assert not out.exists()

@@ -78,6 +78,14 @@ def with_indices(
     """
     if design.form != "standardized" or vs is None or not design.constraints:
         return design
+    if not params.loop_time > 0:  # an analog table (loop_time 0): there is no sampled-data loop
+        return dataclasses.replace(
+            design,
+            warnings=(
+                *design.warnings,
+                "analog table (loop_time 0): no sampled-data passivity margin or index",
+            ),
+        )
     c = criteria or DesignCriteria()
     nyq = 0.5 / params.loop_time
     margin, _ = sampled_margin_deg(design, params, vs, (c.passivity_low_hz, SAMPLED_TOP_FRACTION * nyq))
