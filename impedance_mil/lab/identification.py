@@ -18,17 +18,46 @@ from ..plant import LinearTable, TableParameters
 from ..signals.frf import FRF, FitResult, fit_frf
 
 #: Parameters that can be identified (TableParameters fields, plus the valve poles).
-IDENTIFIABLE = ("f_oil_hz", "zeta_oil", "d", "valve_pole_1_hz", "valve_pole_2_hz")
+IDENTIFIABLE = (
+    "f_oil_hz",
+    "zeta_oil",
+    "d",
+    "valve_pole_1_hz",
+    "valve_pole_2_hz",
+    "valve_time_constant",
+    "valve_frequency_hz",
+    "valve_damping",
+)
+#: The valve parameters of each valve kind that can be identified (plant.parameters.VALVE_KINDS).
+VALVE_IDENTIFIABLE = {
+    "two-pole": ("valve_pole_1_hz", "valve_pole_2_hz"),
+    "first-order": ("valve_time_constant",),
+    "second-order": ("valve_frequency_hz", "valve_damping"),
+}
+_DIRECT = ("f_oil_hz", "zeta_oil", "d", "valve_time_constant", "valve_frequency_hz", "valve_damping")
 
 
 def _with(p0: TableParameters, values: dict) -> TableParameters:
-    changes = {k: v for k, v in values.items() if k in ("f_oil_hz", "zeta_oil", "d")}
+    changes = {k: v for k, v in values.items() if k in _DIRECT}
+    if p0.valve != "two-pole":
+        return p0.replace(**changes)
     poles = list(p0.valve_poles_hz)
     if "valve_pole_1_hz" in values:
         poles[0] = values["valve_pole_1_hz"]
     if "valve_pole_2_hz" in values:
         poles[1] = values["valve_pole_2_hz"]
     return p0.replace(valve_poles_hz=tuple(poles), **changes)
+
+
+def _start(p: TableParameters) -> dict[str, float]:
+    """Starting values of the identifiable parameters of ``p`` (its valve kind's only)."""
+    start = {"f_oil_hz": p.f_oil_hz, "zeta_oil": p.zeta_oil, "d": p.d}
+    if p.valve == "two-pole":
+        start |= {"valve_pole_1_hz": p.valve_poles_hz[0], "valve_pole_2_hz": p.valve_poles_hz[1]}
+    for name in VALVE_IDENTIFIABLE.get(p.valve, ()):
+        if name in _DIRECT:
+            start[name] = float(getattr(p, name))
+    return start
 
 
 def model_response(
@@ -128,13 +157,14 @@ def identify_table(
     unknown = [name for name in free if name not in IDENTIFIABLE]
     if unknown:
         raise ConfigError("identify.free", "names from " + ", ".join(IDENTIFIABLE), unknown)
-    start = {
-        "f_oil_hz": initial.f_oil_hz,
-        "zeta_oil": initial.zeta_oil,
-        "d": initial.d,
-        "valve_pole_1_hz": initial.valve_poles_hz[0],
-        "valve_pole_2_hz": initial.valve_poles_hz[1],
-    }
+    start = _start(initial)
+    other_valve = [name for name in free if name not in start]
+    if other_valve:
+        raise ConfigError(
+            "identify.free",
+            f"parameters of this table's {initial.valve} valve: " + ", ".join(start),
+            other_valve,
+        )
 
     def model(values, f_hz):
         return model_response(_with(initial, values), output, f_hz, delay)
