@@ -228,23 +228,8 @@ def test_design_refuses_an_lti_table_without_force_path(tmp_path, imil):
         assert res.returncode == 2 and res.stderr.strip().count("\n") == 0 and "H_zw" in res.stderr
 
 
-#: A general physical table (issue 13 item 1): a first-order valve (24.6 ms, the value quoted
-#: in issue 13), platen damping and a grounded spring; d and the ratings left out.
-FIRST_ORDER_TABLE = """[table]
-Ke = "5 V/in"
-Kp = "0.001 V/psi"
-Kv = "3 mA/V"
-loop_time = "500 us"
-piston_area = "2.1 in**2"
-mid_stroke = "3.2 in"
-mass = "1600 lb"
-valve = "first-order"
-valve_time_constant = "24.6 ms"
-zeta_oil = 0.09
-f_oil_hz = "27 Hz"
-platen_damping = "5 lbf*s/in"
-grounded_stiffness = "300 lbf/in"
-"""
+#: A general physical table (issue 13 item 1): tests/data/first_order_table.toml.
+FIRST_ORDER_TABLE = (Path(__file__).parents[1] / "data" / "first_order_table.toml").read_text()
 
 
 def test_first_order_table_poles_and_info(tmp_path):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,28 +20,12 @@ from impedance_mil.plant import TableParameters
 
 #: The general table of tests/cli/test_table_cli.py: a 24.6 ms first-order valve (the value
 #: quoted in issue 13), platen damping and a grounded spring, f_oil 27 Hz.
-FIRST_ORDER = """[table]
-Ke = "5 V/in"
-Kp = "0.001 V/psi"
-Kv = "3 mA/V"
-loop_time = "500 us"
-piston_area = "2.1 in**2"
-mid_stroke = "3.2 in"
-mass = "1600 lb"
-valve = "first-order"
-valve_time_constant = "24.6 ms"
-zeta_oil = 0.09
-f_oil_hz = "27 Hz"
-platen_damping = "5 lbf*s/in"
-grounded_stiffness = "300 lbf/in"
-"""
+FIRST_ORDER = Path(__file__).parents[1] / "data" / "first_order_table.toml"
 
 
 @pytest.fixture(scope="module")
-def first_order(tmp_path_factory):
-    path = tmp_path_factory.mktemp("t") / "first.toml"
-    path.write_text(FIRST_ORDER)
-    return path
+def first_order():
+    return FIRST_ORDER
 
 
 def test_imil_frf_identifies_a_first_order_valve_table(first_order, imil, tmp_path):
