@@ -29,7 +29,6 @@ from ..design import DesignCriteria, virtual_model
 from ..design.feasibility_both import BothMethodsMap, MapAxis, MapPoint, feasibility_map_both
 from ..design.forms import VirtualModel
 from ..design.optimized import OptimizationSettings
-from ..display import human_name
 from ..errors import ConfigError, ImilError
 from ..plant import TableParameters
 from ..report.feasibility_plots import plot_feasibility_map
@@ -52,6 +51,8 @@ class NamedAxis:
     ----------
     unit : str
         Unit of the values (pint expression, ``"1"`` for a ratio).
+    shown_unit : str
+        The unit as messages write it (``""`` for a ratio).
     label : str
         Plot label with the unit.
     low, high : float
@@ -61,6 +62,7 @@ class NamedAxis:
     """
 
     unit: str
+    shown_unit: str
     label: str
     low: float
     high: float
@@ -71,6 +73,7 @@ class NamedAxis:
 NAMED_AXES: dict[str, NamedAxis] = {
     "mass_ratio": NamedAxis(
         "1",
+        "",
         "basemat mass m_vs/m_st [-]",
         0.05,
         20.0,
@@ -78,7 +81,8 @@ NAMED_AXES: dict[str, NamedAxis] = {
         "basemat is negligible or the table is",
     ),
     "period": NamedAxis(
-        "second",
+        "s",
+        " s",
         "isolation period T [s]",
         0.1,
         20.0,
@@ -104,12 +108,12 @@ def parse_axis(option: str, text: str | None) -> tuple[str, tuple[float, ...]]:
         raise ConfigError(option, form, text)
     values = _axis_values(option, spec, form)
     if len(set(values)) != len(values) or len(values) > MAX_AXIS_POINTS:
-        raise ConfigError(option, f"at most {MAX_AXIS_POINTS} distinct values", text)
+        raise ConfigError(option, f"distinct values, at most {MAX_AXIS_POINTS}", text)
     axis = NAMED_AXES.get(name)
     if axis is not None and not all(axis.low <= v <= axis.high for v in values):
         raise ConfigError(
             option,
-            f"{name} values from {axis.low:g} to {axis.high:g} {human_name(axis.unit)} ({axis.reason})",
+            f"{name} values from {axis.low:g} to {axis.high:g}{axis.shown_unit} ({axis.reason})",
             text,
         )
     return name, tuple(sorted(values))

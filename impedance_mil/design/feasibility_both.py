@@ -18,8 +18,10 @@ each point as
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -283,22 +285,14 @@ def feasibility_map_both(
     See docs/design.md, "Feasibility map with both methods".
     """
     tm = table_model(params)
+    solve = _Solver(params, tm, fc_hz, fc_grid_hz, criteria, settings)
     rows = []
     for yv in y.values:
         row = []
         for xv in x.values:
-            point = _classify(
-                params,
-                tm,
-                vs_for,
-                robust_for,
-                {x.name: xv, y.name: yv},
-                fc_hz,
-                fc_grid_hz,
-                criteria,
-                settings,
-                (float(xv), float(yv)),
-            )
+            values = {x.name: float(xv), y.name: float(yv)}
+            blank = MapPoint(float(xv), float(yv), NEITHER, None, None, None, None)
+            point = solve.classify(blank, partial(vs_for, **values), partial(_robust, robust_for, values))
             if progress is not None:
                 progress(point)
             row.append(point)
@@ -306,46 +300,67 @@ def feasibility_map_both(
     return BothMethodsMap(x, y, tuple(rows), float(fc_hz))
 
 
-def _classify(params, tm: TableModel, vs_for, robust_for, values, fc_hz, fc_grid_hz, criteria, settings, xy):
-    """The :class:`MapPoint` at one parameter pair."""
-    try:
-        vm = vs_for(**values)
-        robust = robust_for(**values) if robust_for is not None else {}
-    except MissingDependencyError:
-        raise
-    except ImilError as exc:
-        return MapPoint(*xy, NEITHER, None, None, None, None, f"VS refused: {exc}")
-    notes = []
-    try:
-        choice = choose_fc(tm, vm, fc_grid_hz, form="standardized", criteria=criteria)
-    except MissingDependencyError:
-        raise
-    except ImilError as exc:
-        choice, notes = None, [f"filter design refused: {exc}"]
-    feasible_range = None if choice is None else choice.scan.feasible_fc_hz
-    best_fc = None if choice is None else float(choice.fc_hz)
-    at_best = None if choice is None else next(r for r in choice.scan.results if r.fc_hz == choice.fc_hz)
-    if choice is not None and choice.feasible:
-        return MapPoint(*xy, FILTER, feasible_range, best_fc, at_best, None, CHEAP_PATH)
-    try:
-        design = design_optimized(
-            params, vm, fc_hz=fc_hz, robust_vs=robust, criteria=criteria, settings=settings
+def _robust(robust_for, values: dict[str, float]) -> Mapping[str, VirtualModel]:
+    return robust_for(**values) if robust_for is not None else {}
+
+
+@dataclass(frozen=True)
+class _Solver:
+    """The two designs of one point, with the map's table and settings."""
+
+    params: TableParameters
+    tm: TableModel
+    fc_hz: float
+    fc_grid_hz: Sequence[float] | None
+    criteria: DesignCriteria | None
+    settings: OptimizationSettings | None
+
+    def classify(self, blank: MapPoint, vs: Callable[[], VirtualModel], robust) -> MapPoint:
+        """``blank`` (a ``"neither"`` point at its x, y) filled in: filter scan first, optimization if needed."""
+        try:
+            vm, extra = vs(), robust()
+        except MissingDependencyError:
+            raise
+        except ImilError as exc:
+            return dataclasses.replace(blank, note=f"VS refused: {exc}")
+        point, notes = blank, []
+        try:
+            choice = choose_fc(self.tm, vm, self.fc_grid_hz, form="standardized", criteria=self.criteria)
+        except MissingDependencyError:
+            raise
+        except ImilError as exc:
+            notes.append(f"filter design refused: {exc}")
+        else:
+            point = dataclasses.replace(
+                blank,
+                filter_feasible_fc_hz=choice.scan.feasible_fc_hz,
+                best_fc_hz=float(choice.fc_hz),
+                filter_constraints=next(r for r in choice.scan.results if r.fc_hz == choice.fc_hz),
+            )
+            if choice.feasible:
+                return dataclasses.replace(point, map_class=FILTER, note=CHEAP_PATH)
+        try:
+            design = design_optimized(
+                self.params,
+                vm,
+                fc_hz=self.fc_hz,
+                robust_vs=extra,
+                criteria=self.criteria,
+                settings=self.settings,
+            )
+        except MissingDependencyError:
+            raise
+        except ImilError as exc:
+            return dataclasses.replace(point, note="; ".join([*notes, f"optimized design refused: {exc}"]))
+        outcome = OptimizedOutcome.of(design)
+        if outcome.feasible and not outcome.certified:
+            notes.append("optimized design feasible on its grids but not certified (a finer --grid may help)")
+        return dataclasses.replace(
+            point,
+            map_class=OPTIMIZED_ONLY if outcome.meets_all else NEITHER,
+            optimized=outcome,
+            note="; ".join(notes),
         )
-    except MissingDependencyError:
-        raise
-    except ImilError as exc:
-        return MapPoint(
-            *xy,
-            NEITHER,
-            feasible_range,
-            best_fc,
-            at_best,
-            None,
-            "; ".join([*notes, f"optimized design refused: {exc}"]),
-        )
-    outcome = OptimizedOutcome.of(design)
-    cls = OPTIMIZED_ONLY if outcome.meets_all else NEITHER
-    return MapPoint(*xy, cls, feasible_range, best_fc, at_best, outcome, "; ".join(notes))
 
 
 __all__ = [
