@@ -8,6 +8,10 @@ constraints I, II, III, and writes the design file (``-o``) and the
 Figure 9.31 plots (``--plots DIR``).  The form, the cut-off and the filter
 family default to the report's (``[design]`` of the report's setup file), the
 constraint thresholds to :class:`~impedance_mil.design.DesignCriteria`'s.
+With ``--method both --map-x NAME=VALUES --map-y NAME=VALUES`` it maps a VS
+family instead (:mod:`impedance_mil.cli.design_map`): where the filter design
+meets I, II, III, where only the optimized design does, and where neither
+does; ``-o`` then writes the map's plot.
 
 Exit status: 0 on success (also when a constraint is violated: the
 violation is a warning in the output and the JSON); 2 for bad input or an
