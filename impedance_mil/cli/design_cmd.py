@@ -254,7 +254,7 @@ def design(
     if mapping:
         if fcs is None:
             raise ConfigError("--fc", "a reference cut-off in Hz for the feasibility map (not auto)", fc)
-        request = MapRequest(params, vs, sets_vs, lin, amplitudes, fcs[0], criteria, settings)
+        request = MapRequest(params, vs, sets_vs, lin, amplitudes, fcs[0], criteria, settings, from_report)
         run_map(request, map_x or "", map_y, output, json_out, shown)
         return
     vm = virtual_model(spec.vs, spec.name, **lin) if spec is not None else None

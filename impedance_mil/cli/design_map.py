@@ -172,6 +172,7 @@ class MapRequest:
     fc_hz: float
     criteria: DesignCriteria
     settings: OptimizationSettings
+    from_report: dict[str, Any]
 
 
 def run_map(
@@ -214,7 +215,7 @@ def run_map(
             plot_feasibility_map(fmap, title=f"{req.vs}: feasibility with both design methods"), output
         )
     if json_out:
-        print_json(fmap.to_dict(), shown)
+        print_json({**fmap.to_dict(), "from_report": req.from_report}, shown)
         return
     _print_summary(fmap, output)
 

@@ -17,6 +17,7 @@ from impedance_mil.cli.main import app, run
 from impedance_mil.design import table_model, virtual_model
 from impedance_mil.design.feasibility import scan_fc
 from impedance_mil.plant import TableParameters
+from impedance_mil.report_config import report_config
 from impedance_mil.virtual.files import resolve
 
 runner = CliRunner()
@@ -87,6 +88,8 @@ def test_map_json_classes_axes_units_and_plot(tmp_path):
     assert doc["x"]["name"] == "mass_ratio" and doc["x"]["values"] == [0.3, 1.25]
     assert doc["y"]["unit"] == "s" and doc["units"]["points[0].y"] == "s"
     assert "unknown" not in doc["units"].values()
+    fc_report = report_config().design.fc_hz  # the optimized design's reference cut-off, from the report
+    assert doc["reference_fc_hz"] == fc_report and doc["from_report"]["design.fc"] == fc_report
     neither, filt = doc["points"]
     assert filt["optimized"] is None and "cheap path" in filt["note"] and doc["optimized_runs"] == 1
     assert neither["optimized"]["binding"] == "III" and not neither["optimized"]["meets_all"]
