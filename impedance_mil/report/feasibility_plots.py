@@ -35,11 +35,13 @@ CLASS_LABELS = {
 def _edges(values: np.ndarray) -> tuple[np.ndarray, bool]:
     """Cell edges around grid values, and whether the axis is logarithmic.
 
-    Positive values: geometric midpoints on a log axis (a single value gets a
-    cell of a factor 1.1 each side); otherwise arithmetic midpoints.
+    Positive values spaced more evenly in log than in linear terms (and one or
+    two positive values, whose linear cells could reach below zero):
+    geometric midpoints on a log axis, a single value getting a cell of a
+    factor 1.1 each side; otherwise arithmetic midpoints on a linear axis.
     """
     v = np.asarray(values, float)
-    log = bool(np.all(v > 0))
+    log = bool(np.all(v > 0)) and (v.size < 3 or _spread(np.log(v)) < _spread(v))
     u = np.log(v) if log else v
     if u.size == 1:
         half = np.log(1.1) if log else max(0.1 * abs(u[0]), 0.5)
@@ -48,6 +50,12 @@ def _edges(values: np.ndarray) -> tuple[np.ndarray, bool]:
         mid = 0.5 * (u[1:] + u[:-1])
         e = np.concatenate([[u[0] - (mid[0] - u[0])], mid, [u[-1] + (u[-1] - mid[-1])]])
     return (np.exp(e) if log else e), log
+
+
+def _spread(u: np.ndarray) -> float:
+    """Relative spread of the steps of ``u`` (0: evenly spaced)."""
+    d = np.diff(u)
+    return float(np.ptp(d) / np.mean(d))
 
 
 def _annotation(p) -> str:

@@ -29,7 +29,7 @@ from impedance_mil.design.feasibility_both import (
 from impedance_mil.design.forms import environment, ideal_controller
 from impedance_mil.design.optimized import OptimizationSettings, design_optimized
 from impedance_mil.plant import TableParameters
-from impedance_mil.report.feasibility_plots import CLASS_LABELS, plot_feasibility_map
+from impedance_mil.report.feasibility_plots import CLASS_LABELS, _edges, plot_feasibility_map
 from impedance_mil.report.motion_plots import save_figure
 from impedance_mil.report_config import report_config
 from impedance_mil.virtual.files import resolve
@@ -156,3 +156,13 @@ def test_a_refused_vs_is_neither_with_the_reason():
     (p,) = result.points[0]
     assert p.map_class == "neither" and p.note.startswith("VS refused") and p.optimized is None
     assert result.optimized_runs == 0 and np.array_equal(result.classes, [["neither"]])
+
+
+def test_plot_cells_follow_the_grid_spacing():
+    """Even steps give a linear axis with midpoints; geometric steps, or two values, a log axis."""
+    edges, log = _edges(np.array([1.5, 2.0, 2.5, 3.0]))
+    assert not log and np.allclose(edges, [1.25, 1.75, 2.25, 2.75, 3.25], rtol=1e-12)
+    edges, log = _edges(np.array([0.1, 1.0, 10.0]))
+    assert log and np.allclose(edges, [10**-1.5, 10**-0.5, 10**0.5, 10**1.5], rtol=1e-12)
+    edges, log = _edges(np.array([0.3, 1.25]))  # linear cells would reach below 0 (-0.175)
+    assert log and edges[0] > 0 and np.isclose(edges[1], np.sqrt(0.3 * 1.25), rtol=1e-12)
