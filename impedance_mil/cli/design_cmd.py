@@ -195,7 +195,9 @@ def design(
     ),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
     plots: Path | None = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
-    output: Path | None = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
+    output: Path | None = typer.Option(
+        None, "-o", "--output", help="Write the design file (JSON); with --map-x the map's plot."
+    ),
     units: str | None = UnitsOpt,
 ) -> None:
     """Design the impedance-matching MIL controller and check constraints I, II, III."""
