@@ -258,11 +258,10 @@ def _print_summary(fmap: BothMethodsMap, output: Path | None) -> None:
         f"{fmap.optimized_runs} optimized solves, the rest took the cheap path (filter feasible)",
         markup=False,
     )
-    console.print("  " + " ".join(f"{v:>14g}" for v in fmap.x.values), markup=False)
+    console.print(f"{'':>9s}" + "".join(f"{v:>16g}" for v in fmap.x.values), markup=False, highlight=False)
     for yv, row in zip(fmap.y.values, fmap.points):
-        console.print(
-            f"{yv:g} " + " ".join(f"{p.map_class:>14s}" for p in row), markup=False, highlight=False
-        )
+        cells = "".join(f"{p.map_class:>16s}" for p in row)
+        console.print(f"{yv:>9g}{cells}", markup=False, highlight=False)
     if output is not None:
         console.print(f"wrote {output}")
 

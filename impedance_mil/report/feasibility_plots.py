@@ -3,7 +3,8 @@
 One cell per grid point of :class:`~impedance_mil.design.feasibility_both.BothMethodsMap`,
 coloured by its class (filter design / optimized only / neither), the legend
 naming all three classes whether or not they occur, each cell
-annotated with the filter design's cut-off or the optimized design's e_I.  Matplotlib with the Agg backend;
+annotated with the filter design's cut-off, the optimized design's e_I, or
+(neither) the passivity margin of its best trade-off.  Matplotlib with the Agg backend;
 :func:`~impedance_mil.report.motion_plots.save_figure` writes the figure.
 """
 
@@ -59,11 +60,13 @@ def _spread(u: np.ndarray) -> float:
 
 
 def _annotation(p) -> str:
-    """Text of one cell: the filter design's f_c, or the optimized design's e_I."""
+    """Text of one cell: the filter design's f_c, the optimized design's e_I, or its best margin."""
     if p.map_class == FILTER and p.best_fc_hz is not None:
         return f"f_c {p.best_fc_hz:.0f} Hz"
-    if p.optimized is not None:
+    if p.optimized is not None and p.optimized.meets_all:
         return f"opt. e_I {p.optimized.constraints.performance_error:.2f}"
+    if p.optimized is not None:  # the best trade-off: the margin it reaches at the allowed e_I
+        return f"opt. margin {p.optimized.constraints.passivity_margin_deg:.1f} deg"
     return ""
 
 
@@ -106,8 +109,7 @@ def plot_feasibility_map(fmap: BothMethodsMap, title: str = "") -> Figure:
     handles = [Patch(color=c, label=CLASS_LABELS[k]) for k, c in zip(MAP_CLASSES, CLASS_COLOURS)]
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=1, fontsize=8)
     ax.set_title(
-        title
-        or "Feasibility with both design methods (cells: f_c of the filter design, e_I of the optimized one)",
+        title or "Feasibility with both design methods (cells: filter f_c, optimized e_I or best margin)",
         fontsize=9,
     )
     fig.tight_layout()
