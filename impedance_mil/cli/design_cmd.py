@@ -8,6 +8,10 @@ constraints I, II, III, and writes the design file (``-o``) and the
 Figure 9.31 plots (``--plots DIR``).  The form, the cut-off and the filter
 family default to the report's (``[design]`` of the report's setup file), the
 constraint thresholds to :class:`~impedance_mil.design.DesignCriteria`'s.
+With ``--method both --map-x NAME=VALUES --map-y NAME=VALUES`` it maps a VS
+family instead (:mod:`impedance_mil.cli.design_map`): where the filter design
+meets I, II, III, where only the optimized design does, and where neither
+does; ``-o`` then writes the map's plot.
 
 Exit status: 0 on success (also when a constraint is violated: the
 violation is a warning in the output and the JSON); 2 for bad input or an
@@ -54,6 +58,7 @@ from .common import (
     print_json,
     table_definition,
 )
+from .design_map import MapRequest, run_map
 
 _DESIGN = report_config().design
 _BAND_TEXT = ",".join(f"{f:g}" for f in DesignCriteria().band_hz)
@@ -149,8 +154,16 @@ def design(
     method: str = typer.Option(
         "filter",
         "--method",
-        help="filter (Section 6.4) | optimized (Section 10.4: convex, certified passivity).",
+        help="filter (Section 6.4) | optimized (Section 10.4: convex, certified passivity) "
+        "| both (with --map-x/--map-y: the feasibility map of both methods).",
     ),
+    map_x: str | None = typer.Option(
+        None,
+        "--map-x",
+        help="Feasibility map (--method both): axis NAME=v1,v2,... or NAME=LO:HI:N; NAME mass_ratio "
+        "(m_vs/m_st), period [s] or a VS key. -o then writes the map's plot (.png, .svg, .pdf).",
+    ),
+    map_y: str | None = typer.Option(None, "--map-y", help="Feasibility map: the second axis (as --map-x)."),
     margin: float = typer.Option(
         0.0, "--margin", help="Optimized: passivity margin delta [deg], phase of H_vw within +-(90 - delta)."
     ),
@@ -182,7 +195,9 @@ def design(
     ),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
     plots: Path | None = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
-    output: Path | None = typer.Option(None, "-o", "--output", help="Write the design file (JSON)."),
+    output: Path | None = typer.Option(
+        None, "-o", "--output", help="Write the design file (JSON); with --map-x the map's plot."
+    ),
     units: str | None = UnitsOpt,
 ) -> None:
     """Design the impedance-matching MIL controller and check constraints I, II, III."""
@@ -196,12 +211,17 @@ def design(
         raise ConfigError("--form", "one of " + ", ".join(FORMS), form)
     if family not in FAMILIES:
         raise ConfigError("--filter", "one of " + ", ".join(FAMILIES), family)
+    mapping = map_x is not None or map_y is not None
     if plots is not None and not plots.is_dir():
         raise ConfigError("--plots", "an existing folder", str(plots))
+    if mapping and (form != "standardized" or mass_ratios is not None or frf is not None):
+        raise ConfigError("--map-x", "the standardized form, without --mass-ratios and --frf")
     if output is not None and not output.parent.is_dir():
         raise ConfigError("-o", "a path in an existing folder", str(output))
-    if method not in ("filter", "optimized"):
-        raise ConfigError("--method", "filter or optimized", method)
+    if method not in ("filter", "optimized", "both") or (method == "both") != mapping:
+        raise ConfigError(
+            "--method", "filter or optimized, or both with --map-x and --map-y (the feasibility map)", method
+        )
     # Every option's value is checked whatever the method and filter (one that does not use it ignores it).
     with option_errors({"ripple_db": "--ripple-db", "filter order": "--order"}):
         check_ripple(ripple_db)
@@ -233,6 +253,12 @@ def design(
     if not amplitude > 0:
         raise ConfigError("--amplitude", "a positive displacement amplitude in in", amplitude)
     lin: dict[str, Any] = dict(linearization=linearization, amplitude_in=amplitude)
+    if mapping:
+        if fcs is None:
+            raise ConfigError("--fc", "a reference cut-off in Hz for the feasibility map (not auto)", fc)
+        request = MapRequest(params, vs, sets_vs, lin, amplitudes, fcs[0], criteria, settings, from_report)
+        run_map(request, map_x or "", map_y, output, json_out, shown)
+        return
     vm = virtual_model(spec.vs, spec.name, **lin) if spec is not None else None
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
