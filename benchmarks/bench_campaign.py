@@ -1,9 +1,12 @@
 """Campaign speed: the 27-case MIL campaign of Table 9.4, on 1 and on 2 local workers.
 
 Prints the wall-clock time of each (pool start-up included; every run executes,
-nothing is resumed) and the speed-up from 1 to 2 workers, measured in this run
-after an untimed warm-up run (numba compiles its kernels once, into its cache).
-Goal: the 27 cases in under 60 s on a 2-core machine.
+nothing is resumed), runs per second, and the speed-up from 1 to 2 workers,
+measured in this run after an untimed warm-up run (numba compiles its kernels
+once, into its cache).  Then, the 27 runs once more in this process, the time of
+the compiled loop (``lab.loop.simulate``, timed by wrapping it) against the whole
+run: the per-run overhead beyond the loop (design, motion, metrics, run file).
+Goal (issue 16, goal 5): the 27 cases in at most 10 s on 2 workers (60 s before).
 
 Until the ``mil`` kind is registered (it needs ``impedance_mil.lab.experiments``),
 the script measures 27 runs of the ``design`` kind instead (nine isolation systems
@@ -22,8 +25,9 @@ import time
 
 from impedance_mil.campaign import KINDS, InlineExecutor, LocalExecutor, load_campaign, run_campaign
 from impedance_mil.campaign.executors import default_workers
+from impedance_mil.lab import experiments
 
-GOAL_S = 60.0
+GOAL_S = 10.0
 
 
 def table_9_4_campaign(reduced: bool):
@@ -68,8 +72,38 @@ def main() -> None:
         f"speed-up 1 -> 2 workers: {times[1] / times[2]:.2f}x "
         f"(load average now {os.getloadavg()[0]:.2f}: other processes share the cores)"
     )
-    verdict = "meets" if times[2] < GOAL_S else "misses"
-    print(f"2 workers: {times[2]:.1f} s, {verdict} the goal of < {GOAL_S:.0f} s")
+    print(f"2 workers: {len(spec.runs) / times[2]:.2f} runs per second")
+    loop_s, total_s = loop_share(spec)
+    n = max(len(spec.runs), 1)
+    print(
+        f"in this process: {total_s / n:.3f} s per run, of which the compiled loop {loop_s / n:.3f} s; "
+        f"overhead beyond the loop {(total_s - loop_s) / n:.3f} s per run"
+    )
+    verdict = "meets" if times[2] <= GOAL_S else "misses"
+    print(f"2 workers: {times[2]:.1f} s, {verdict} the goal of <= {GOAL_S:.0f} s")
+
+
+def loop_share(spec) -> tuple[float, float]:
+    """Seconds spent in the compiled loop, and in all, running ``spec`` inline (the loop timed by a wrapper)."""
+    spent = [0.0]
+    simulate = experiments.simulate
+
+    def timed_simulate(*args, **kwargs):
+        start = time.perf_counter()
+        try:
+            return simulate(*args, **kwargs)
+        finally:
+            spent[0] += time.perf_counter() - start
+
+    experiments.simulate = timed_simulate  # the benchmark's own process only
+    try:
+        with tempfile.TemporaryDirectory(prefix="imil-bench-") as folder:
+            start = time.perf_counter()
+            run_campaign(spec, folder, InlineExecutor())
+            total = time.perf_counter() - start
+    finally:
+        experiments.simulate = simulate
+    return spent[0], total
 
 
 if __name__ == "__main__":
