@@ -36,10 +36,11 @@ FILE_FORMAT = "impedance-mil run 1"
 RUN_ATTRS = ("format", "software_version", "mode", "loop_time_s", "config_json", "trip_json", "data_sha256")
 RUN_GROUPS = ("channels", "vs_states")
 #: How channels are stored: contiguous, uncompressed (issue 16).  Measured on a 600 s MIL run
-#: (22 channels of 1.2 million float64 samples, 211 MB; docs/lab.md, "Run files"): gzip level 4
-#: took 8.6 s of CPU to save 40 %, shuffle+lzf 3.1 s to save 44 %, uncompressed 0.1 s.  The
-#: channels are full-precision floats that compress little; a run file is written at disk speed.
-#: Readers need no change: h5py reads compressed and uncompressed datasets alike.
+#: (22 channels and the VS states, 1.2 million float64 samples each, 230 MB; the table is in
+#: docs/lab.md, "Run files"): gzip level 4 took 8.6 s of CPU to save 41 %, shuffle+lzf 3.1 s
+#: to save 44 %, uncompressed 0.1 s.  Full-precision channels compress little, so a run file
+#: is written at disk speed; h5py reads compressed and uncompressed datasets alike, so files
+#: written before (gzip channels) read as they did.
 CHANNEL_STORAGE: Mapping[str, Any] = MappingProxyType({})
 #: Suffixes of a run file (HDF5); ``imil simulate -o r.xyz`` is refused, not written as HDF5 under another name.
 RUN_FILE_SUFFIXES = (".h5", ".hdf5")
