@@ -174,7 +174,7 @@ def data_digest(channels: Mapping[str, np.ndarray], vs_states: np.ndarray) -> st
 
 def _raw_bytes(arr: np.ndarray) -> memoryview:
     """The bytes of a C-contiguous array, as ``arr.tobytes()`` gives them, without copying them."""
-    return memoryview(arr.reshape(-1).view(np.uint8))
+    return arr.reshape(-1).view(np.uint8).data
 
 
 def _check_records(
