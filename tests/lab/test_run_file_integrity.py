@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import json
 import math
 
@@ -112,3 +113,47 @@ def test_a_trip_with_a_non_finite_value_round_trips_as_nan(run, tmp_path):
         assert json.loads(f.attrs["trip_json"])["value"] is None  # strict JSON: no NaN
     back = load_run(path).trip
     assert back.cause == TripCause.NAN and back.time_s == 1.5 and math.isnan(back.value)
+
+
+def _digest_with_copies(channels, vs_states):
+    """``data_digest`` as written before issue 16 (``tobytes`` copies): the stored checksums must not change."""
+    h = hashlib.sha256()
+    for name in sorted(channels):
+        arr = np.ascontiguousarray(channels[name])
+        h.update(f"{name}:{arr.dtype.str}:{arr.shape}".encode())
+        h.update(arr.tobytes())
+    states = np.ascontiguousarray(vs_states)
+    h.update(f"vs_states:{states.dtype.str}:{states.shape}".encode())
+    h.update(states.tobytes())
+    return h.hexdigest()
+
+
+def test_the_checksum_is_the_one_files_already_carry(run):
+    channels = {
+        **run.channels,
+        "strided": run.channels["x"][::2],
+        "f32": run.channels["x"].astype(np.float32),
+    }
+    assert data_digest(channels, run.vs_states) == _digest_with_copies(channels, run.vs_states)
+    states = np.ones((run.n_samples, 2))[:, ::-1]  # not C-contiguous
+    assert data_digest(run.channels, states) == _digest_with_copies(run.channels, states)
+
+
+def test_channels_are_written_uncompressed_and_contiguous(saved):
+    # Issue 16: the write takes disk speed (docs/lab.md, "Run files" has the measured choices).
+    with h5py.File(saved) as f:
+        for name, dataset in f["channels"].items():
+            assert (name, dataset.compression, dataset.chunks) == (name, None, None)
+
+
+def test_a_file_with_gzip_channels_still_reads(run, saved):
+    # Files written before issue 16 carry gzip-compressed channels; they load to the same records.
+    with h5py.File(saved, "r+") as f:
+        for name in list(f["channels"]):
+            data = np.asarray(f["channels"][name])
+            del f["channels"][name]
+            f["channels"].create_dataset(name, data=data, compression="gzip", compression_opts=4)
+        assert f["channels"]["x"].compression == "gzip"
+    back = load_run(saved)
+    for name, data in run.channels.items():
+        np.testing.assert_array_equal(back.channels[name], data)
