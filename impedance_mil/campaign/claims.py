@@ -19,6 +19,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import scipy.stats
+
 from ..lab.feedback import LEGACY_NAMES, Feedback
 from ..lab.runfile import legacy_value
 from ..lab.trips import TRIP_LIMIT_KEY, TripCause
@@ -430,6 +432,42 @@ def _fc_recovers(rows: SummaryTable) -> tuple:
     )
 
 
+#: Rank correlation of the passivity index with ``hf_ratio`` at or below which "less passive is
+#: more oscillatory" holds (a strong monotone trend, tool's choice), with the p-value below.
+PASSIVITY_RANK_CORRELATION = -0.5
+PASSIVITY_P_VALUE = 0.05
+
+
+def _passive_oscillatory(rows: SummaryTable) -> tuple:
+    x, y = _points(rows, "passivity_index", "hf_ratio")
+    if len(x) < 4:
+        return (
+            NOT_RUN,
+            "fewer than 4 MIL runs with a passivity index and hf_ratio finished",
+            (),
+            "",
+            "",
+            False,
+        )
+    rho, p = scipy.stats.spearmanr(x, y)
+    ok = bool(rho <= PASSIVITY_RANK_CORRELATION and p < PASSIVITY_P_VALUE)
+    answer = "yes: the less passive designs oscillate more" if ok else "no clear trend"
+    text = (
+        f"{len(x)} runs: Spearman rank correlation of the passivity index (min Re 1/H_vw, "
+        f"{min(x):.3g} to {max(x):.3g} lbf*s/in) with the rms above 15 Hz over the target's "
+        f"({min(y):.3g} to {max(y):.3g}) is {rho:.2f} (p = {p:.2g}): {answer}"
+    )
+    curves = (Curve("toolkit: one MIL run", x, y),)
+    return (
+        (AGREE if ok else DISAGREE),
+        text,
+        curves,
+        "passivity index [lbf*s/in]",
+        "rms above 15 Hz / rms target [-]",
+        False,
+    )
+
+
 #: The claims of the report checked by the reproduction suite, in report order.
 CLAIMS: tuple[Claim, ...] = (
     Claim(
@@ -545,6 +583,18 @@ CLAIMS: tuple[Claim, ...] = (
         f"SD2 at 0.7 m_st: the run at 200 Hz is stable and the 80 Hz run is unstable or has at least "
         f"{MEANINGFUL_RATIO:g} times its high-frequency content.",
         _fc_recovers,
+    ),
+    Claim(
+        "sec10-passive-oscillatory",
+        "10.4 (a question of the report's future work)",
+        "Does less passive mean more oscillatory? The report asks whether the degree of passivity of the "
+        "controlled table predicts the high-frequency oscillation of a MIL test.",
+        "report-sec9",
+        "table-9.4",
+        f"the MIL runs of Table 9.4 (f_c = 80 Hz): 'agree' (yes) when the Spearman rank correlation of the "
+        f"design's passivity index with hf_ratio is at most {PASSIVITY_RANK_CORRELATION:g} with "
+        f"p < {PASSIVITY_P_VALUE:g}.",
+        _passive_oscillatory,
     ),
 )
 

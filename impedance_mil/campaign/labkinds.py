@@ -10,7 +10,8 @@ the shared names of :mod:`impedance_mil.lab.runfile`
 ``peak_error``, ``energy_error``, ``simulated_s``, ``aborted``,
 ``abort_reason``, ``trip_limit``/``trip_time_s``/``trip_value``) plus
 ``spectral_agreement_hz`` and ``hf_ratio`` of
-:mod:`impedance_mil.campaign.runmetrics`.  A run that trips a safety limit
+:mod:`impedance_mil.campaign.runmetrics`, and for ``mil`` the design's
+``passivity_margin_deg`` and ``passivity_index`` (:func:`design_passivity`).  A run that trips a safety limit
 returns ``aborted = True`` with the trip as ``abort_reason`` (its data up to
 the trip are kept).
 
@@ -25,6 +26,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from ..design import ControllerDesign, virtual_model
+from ..design.constraints import DesignCriteria
+from ..design.optimized.indices import passivity_index
 from ..lab.choices import report_lab
 from ..lab.descriptions import (
     FRF_BANDS_HZ,
@@ -39,6 +43,7 @@ from ..lab.descriptions import (
 from ..lab.experiments import ControlledRun
 from ..lab.feedback import LEGACY_NAMES, Feedback
 from ..lab.runfile import TRIP_KEYS, flat_summary, run_summary, write_run_file
+from ..plant import TableParameters
 from ..report_config import report_config
 from ..units import INTERNAL_UNITS
 from ..virtual.files import VSSpec
@@ -266,6 +271,29 @@ def run_mil_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
         used,
         vs_spec=VSSpec(config["vs"]["preset"], vs),
     )
-    metrics = _controlled_metrics(test, test.run(), source, out_path)
+    result = test.run()
+    metrics = _controlled_metrics(test, result, source, out_path)
     metrics["m_vs_over_m_st"] = vs.m_vs / params.mass
+    metrics.update(design_passivity(result.design, params, vs))
     return metrics
+
+
+def design_passivity(design: ControllerDesign, params: TableParameters, vs) -> dict[str, float]:
+    """``passivity_margin_deg`` [deg] and ``passivity_index`` [lbf*s/in] of a MIL run's controller.
+
+    The margin is the design's constraint-III margin at its cut-off; the index
+    is ``min Re(1/H_vw)``, the smallest equivalent damping the controlled
+    table presents to the article over the passivity band up to the loop's
+    Nyquist frequency (:func:`impedance_mil.design.optimized.passivity_index`),
+    on the same VS model as the run's design (``open-fh``, see
+    :func:`impedance_mil.lab.experiments.mil_design`).  Together with
+    ``hf_ratio`` they answer the report's question of Section 10.4, "does less
+    passive mean more oscillatory?" (claim ``sec10-passive-oscillatory``).
+    """
+    criteria = DesignCriteria()
+    band = (criteria.passivity_low_hz, 0.5 / params.loop_time)
+    index, _ = passivity_index(design, params, virtual_model(vs, linearization="open-fh"), band)
+    return {
+        "passivity_margin_deg": float(design.constraint_at(design.fc_hz).passivity_margin_deg),
+        "passivity_index": index,
+    }

@@ -132,3 +132,17 @@ def test_failed_runs_leave_a_claim_not_run_and_say_so():
     rows = [{"K_p": 0.001, "status": "failed"}]
     outcome = verdict("sec8-kp", [table("kp", rows)])
     assert outcome.verdict == NOT_RUN and "1 runs failed or pending" in outcome.measured
+
+
+def test_less_passive_more_oscillatory_needs_a_strong_monotone_trend():
+    # Section 10.4's question on hand-made rows: hf_ratio falling as the index rises (less
+    # passive, more oscillatory) agrees; no order disagrees; fewer than 4 runs is not run.
+    index = [-80.0, -75.0, -70.0, -65.0, -60.0, -55.0]
+    trend = table("table-9.4", [{"passivity_index": i, "hf_ratio": 0.3 - 0.004 * (i + 80)} for i in index])
+    out = verdict("sec10-passive-oscillatory", [trend])
+    assert out.verdict == AGREE and "-1.00" in out.measured
+    flat = [0.10, 0.02, 0.15, 0.03, 0.12, 0.05]
+    mixed = table("table-9.4", [{"passivity_index": i, "hf_ratio": h} for i, h in zip(index, flat)])
+    assert verdict("sec10-passive-oscillatory", [mixed]).verdict == DISAGREE
+    few = table("table-9.4", [{"passivity_index": i, "hf_ratio": 0.1} for i in index[:3]])
+    assert verdict("sec10-passive-oscillatory", [few]).verdict == NOT_RUN

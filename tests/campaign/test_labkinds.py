@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from impedance_mil.campaign import InlineExecutor, load_campaign, motions, run_campaign
@@ -115,3 +117,14 @@ def test_a_tripped_frf_run_is_aborted_and_keeps_its_data(tmp_path):
     assert record.status == "aborted" and "actuator_force" in record.error
     run = load_run(result.root / record.hdf5)
     assert run.trip.limit == "actuator_force" and run.trip.time_s < 0.1
+
+
+def test_a_mil_run_records_the_passivity_of_its_design(lab_campaign, imil):
+    # The campaign's passivity margin and index (Section 10.4 question) are those of
+    # `imil design --vs SD2 --fc 80` (the same design, indices by the design command's path).
+    _, result = lab_campaign
+    (sd2,) = [r for r in result.records if "mil" in r.studies and r.settings.get("vs") == "SD2"]
+    res = imil("design", "--vs", "SD2", "--fc", "80", "--json")
+    first = json.loads(res.stdout)["constraints"][0]
+    assert sd2.metrics["passivity_margin_deg"] == pytest.approx(first["passivity_margin_deg"], rel=1e-9)
+    assert sd2.metrics["passivity_index"] == pytest.approx(first["passivity_index"], rel=1e-9)
