@@ -75,3 +75,39 @@ def lazy_exports(
         return sorted(set(vars(sys.modules[package])) | set(where))
 
     return LazyExports(module_getattr, module_dir)
+
+
+class LazyModule:
+    """A module that is imported when one of its attributes is first read.
+
+    For a heavy dependency that a light module needs in a few functions only (``systems.py``
+    converts to and from python-control, which costs 2 s to import, in two methods): the
+    module binds ``control = LazyModule("control")`` at the top, where its imports are, and
+    ``control.tf(...)`` imports python-control on that first call (:func:`importlib.import_module`;
+    afterwards a dictionary look-up in ``sys.modules``).  Unlike
+    :class:`importlib.util.LazyLoader` nothing is put in ``sys.modules`` before the first use,
+    so ``"control" in sys.modules`` still says whether python-control was loaded.  Not for
+    names used at import time (decorators, base classes) or in a hot loop.
+
+    Parameters
+    ----------
+    name : str
+        The absolute name of the module (``"control"``, ``"scipy.signal"``).
+
+    Examples
+    --------
+    >>> signal = LazyModule("scipy.signal")
+    >>> signal.tf2zpk([1.0], [1.0, 1.0])[1]
+    array([-1.])
+    """
+
+    __slots__ = ("_name",)
+
+    def __init__(self, name: str) -> None:
+        self._name = name
+
+    def __getattr__(self, attribute: str) -> Any:
+        return getattr(importlib.import_module(self._name), attribute)
+
+    def __repr__(self) -> str:
+        return f"LazyModule({self._name!r})"

@@ -31,14 +31,19 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import control
 import numpy as np
 import scipy.linalg
-import scipy.signal
 from numpy.typing import ArrayLike
 
 from .errors import ConfigError, ImproperSystemError
+from .lazy import LazyModule
 from .units import TWO_PI
+
+#: python-control and scipy.signal, imported on first use: only the conversions
+#: (:meth:`StateSpace.from_control`, :meth:`StateSpace.to_control`, :meth:`StateSpace.from_polynomials`)
+#: need them, and a command that only reads a table should not wait 2 s for them (issue 16).
+control = LazyModule("control")
+scipy_signal = LazyModule("scipy.signal")
 
 #: Frequency points solved per batch by :meth:`StateSpace.evaluate` (bounds the memory of the batch).
 BATCH_POINTS = 2048
@@ -385,7 +390,7 @@ class StateSpace:
                 (input,),
                 (output,),
             )
-        A, B, C, D = scipy.signal.tf2ss(num, den)
+        A, B, C, D = scipy_signal.tf2ss(num, den)
         return cls(A, B, C, D, dt, (input,), (output,))
 
     @classmethod

@@ -12,10 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.linalg
-import scipy.signal
 
 from .errors import ConfigError
+from .lazy import LazyModule
 from .lti import StateSpace
+
+#: scipy.signal, imported on first use (issue 16: a command that only reads a table does not convert).
+scipy_signal = LazyModule("scipy.signal")
 
 #: Coefficients below this fraction of the magnitude of the terms summed into them are round-off.
 ROUNDOFF_RTOL = 1e-9
@@ -99,7 +102,7 @@ def ss_to_tf(sys: StateSpace, rtol: float = ROUNDOFF_RTOL) -> tuple[np.ndarray, 
     d = float(sys.D[0, 0])
     n = A.shape[0]
     num_lv, den_lv = _leverrier(A, b, c, d)
-    nums, den_sp = scipy.signal.ss2tf(A, b.reshape(n, 1), c.reshape(1, n), d)
+    nums, den_sp = scipy_signal.ss2tf(A, b.reshape(n, 1), c.reshape(1, n), d)
     num_sp = np.zeros(n + 1)
     num_sp[n + 1 - nums.shape[1] :] = nums[0]
     leading_zeros = _zeros_at_infinity(A, b, c, d, rtol)

@@ -42,16 +42,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import control
 import numpy as np
 import scipy.linalg
 
 from ..errors import ConfigError, UnstableSystemError
+from ..lazy import LazyModule
 from ..lti import StateSpace
 from ..systems import TransferFunction
 from .parameters import TableParameters
 from .sampled import SampledTable
 from .statespace import INPUTS, OUTPUTS, TableStateSpace, feedback_row, plant_state_space
+
+#: python-control, imported on first use: only the Pade approximation needs it (issue 16, start-up).
+control = LazyModule("control")
 
 #: Delay treatments of the loop time.
 DELAYS = ("none", "first-order", "pade", "sampled")
