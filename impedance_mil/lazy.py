@@ -111,3 +111,34 @@ class LazyModule:
 
     def __repr__(self) -> str:
         return f"LazyModule({self._name!r})"
+
+
+def lazy_attributes(module: str, source: str, names: tuple[str, ...]) -> Callable[[str], Any]:
+    """The module-level ``__getattr__`` (PEP 562) of ``module`` that reads ``names`` from ``source``.
+
+    For a module whose compiled kernels moved to a module of their own so that its light part
+    does not import numba: ``from impedance_mil.specimens.sensors import measure_kernel`` still
+    works, and imports ``specimens.sensor_kernels`` then.
+
+    Parameters
+    ----------
+    module : str
+        The ``__name__`` of the module that binds the result as its ``__getattr__``.
+    source : str
+        The absolute name of the module defining ``names``.
+    names : tuple of str
+        The names re-exported.
+
+    Returns
+    -------
+    callable
+        ``__getattr__ = lazy_attributes(__name__, "...", (...))``.
+    """
+    where = LazyModule(source)
+
+    def module_getattr(name: str) -> Any:
+        if name not in names:
+            raise AttributeError(f"module {module!r} has no attribute {name!r}")
+        return getattr(where, name)
+
+    return module_getattr
