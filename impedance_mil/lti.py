@@ -32,17 +32,17 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 from numpy.typing import ArrayLike
 
 from .errors import ConfigError, ImproperSystemError
 from .lazy import LazyModule
 from .units import TWO_PI
 
-#: python-control and scipy.signal, imported on first use: only the conversions
-#: (:meth:`StateSpace.from_control`, :meth:`StateSpace.to_control`, :meth:`StateSpace.from_polynomials`)
-#: need them, and a command that only reads a table should not wait 2 s for them (issue 16).
+#: python-control and scipy, imported on first use (:class:`~impedance_mil.lazy.LazyModule`): only
+#: the conversions and the discretization need them, and a command that only reads a configuration
+#: should not wait 2 s for them (issue 16, start-up).
 control = LazyModule("control")
+scipy_linalg = LazyModule("scipy.linalg")
 scipy_signal = LazyModule("scipy.signal")
 
 #: Frequency points solved per batch by :meth:`StateSpace.evaluate` (bounds the memory of the batch).
@@ -325,7 +325,7 @@ class StateSpace:
         block = np.zeros((n + m, n + m))
         block[:n, :n] = self.A * dt
         block[:n, n:] = self.B * dt
-        E = scipy.linalg.expm(block)
+        E = scipy_linalg.expm(block)
         return StateSpace(E[:n, :n], E[:n, n:], self.C, self.D, dt, self.inputs, self.outputs, self.states)
 
     def tustin(self, dt: float, prewarp_hz: float | None = None) -> StateSpace:
