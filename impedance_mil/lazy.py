@@ -83,8 +83,8 @@ class LazyModule:
     For a heavy dependency that a light module needs in a few functions only (``systems.py``
     converts to and from python-control, which costs 2 s to import, in two methods): the
     module binds ``control = LazyModule("control")`` at the top, where its imports are, and
-    ``control.tf(...)`` imports python-control on that first call (:func:`importlib.import_module`;
-    afterwards a dictionary look-up in ``sys.modules``).  Unlike
+    ``control.tf(...)`` imports python-control on that first call (:func:`importlib.import_module`);
+    each name read is kept on the object, so later reads cost what a module's do.  Unlike
     :class:`importlib.util.LazyLoader` nothing is put in ``sys.modules`` before the first use,
     so ``"control" in sys.modules`` still says whether python-control was loaded.  Not for
     names used at import time (decorators, base classes) or in a hot loop.
@@ -101,13 +101,19 @@ class LazyModule:
     array([-1.])
     """
 
-    __slots__ = ("_name",)
-
     def __init__(self, name: str) -> None:
         self._name = name
 
     def __getattr__(self, attribute: str) -> Any:
-        return getattr(importlib.import_module(self._name), attribute)
+        # Called only for a name not read before: the value is then kept on this object, so
+        # that later reads are plain attribute reads (the fallback to __getattr__ alone costs
+        # about 2 us, a tenth of a call of NonlinearTable.derivative).  A module attribute
+        # replaced after its first read (a test's monkeypatch) is therefore not seen here.
+        if attribute.startswith("__"):
+            raise AttributeError(attribute)  # copy, pickle and inspect probe dunders
+        value = getattr(importlib.import_module(self._name), attribute)
+        setattr(self, attribute, value)
+        return value
 
     def __repr__(self) -> str:
         return f"LazyModule({self._name!r})"
