@@ -20,6 +20,7 @@ import typer
 
 from ..display import UnitSystem
 from ..errors import ConfigError
+from ..lazy import lazy_attributes
 from ..plant import LinearTable, TableParameters
 from ..plant.lti_table import LTITable
 from ..plant.tuning import pole_summary, tuning_summary
@@ -73,6 +74,10 @@ TABLE_COMMANDS: MappingProxyType[str, LazyCommand] = MappingProxyType(
         ),
     }
 )
+
+
+#: ``impedance_mil.cli.table.bode`` and ``rlocus`` read from ``cli/table_figures.py`` (PEP 562).
+__getattr__ = lazy_attributes(__name__, "impedance_mil.cli.table_figures", ("bode", "rlocus"))
 
 
 class TableGroup(LazyGroup):

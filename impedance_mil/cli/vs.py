@@ -16,6 +16,7 @@ import typer
 
 from ..config import parse_overrides
 from ..display import UnitSystem, display_unit, format_value
+from ..lazy import lazy_attributes
 from ..plant import TableParameters
 from ..units import G0
 from ..virtual import presets
@@ -44,6 +45,10 @@ VS_COMMANDS: MappingProxyType[str, LazyCommand] = MappingProxyType(
         ),
     }
 )
+
+
+#: ``impedance_mil.cli.vs.loops`` read from ``cli/vs_figures.py`` (PEP 562).
+__getattr__ = lazy_attributes(__name__, "impedance_mil.cli.vs_figures", ("loops",))
 
 
 class VSGroup(LazyGroup):

@@ -14,6 +14,7 @@ import sys
 import pytest
 import typer
 
+from impedance_mil.cli import table, table_figures, vs, vs_figures
 from impedance_mil.cli.main import COMMANDS, LazyGroup, app, load_target
 from impedance_mil.cli.table import TABLE_COMMANDS
 from impedance_mil.cli.vs import VS_COMMANDS
@@ -195,3 +196,11 @@ def test_a_group_lists_its_registry_in_order_and_every_target_exists(group, imil
     assert listed == list(GROUP_REGISTRIES[group])
     for entry in GROUP_REGISTRIES[group].values():
         assert callable(load_target(entry.target))
+
+
+def test_the_commands_moved_out_of_a_group_module_are_importable_where_they_were():
+    assert (table.bode, table.rlocus, vs.loops) == (
+        table_figures.bode,
+        table_figures.rlocus,
+        vs_figures.loops,
+    )
