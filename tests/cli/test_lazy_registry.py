@@ -122,10 +122,15 @@ LIGHT_NAMES = {
     "from impedance_mil.plant import TableParameters": tuple(m for m in HEAVY if m != "dask"),
     "from impedance_mil.lab import RunResult": HEAVY,
     "from impedance_mil.signals import GroundMotion": HEAVY,
-    # design and implement import python-control with passivity and discretize, names of their
-    # own submodules, which cannot be lazy (impedance_mil/lazy.py)
+    # design and implement import passivity and discretize at the top (names of their own
+    # submodules, which cannot be lazy), and those read python-control only when used (LazyModule)
     "import impedance_mil.plant, impedance_mil.lab, impedance_mil.signals, impedance_mil.virtual, "
-    "impedance_mil.specimens, impedance_mil.campaign": (*HEAVY, "pint", "scipy.signal", "h5py"),
+    "impedance_mil.specimens, impedance_mil.campaign, impedance_mil.design, impedance_mil.implement": (
+        *HEAVY,
+        "pint",
+        "scipy.signal",
+        "h5py",
+    ),
 }
 
 
