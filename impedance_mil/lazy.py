@@ -75,3 +75,76 @@ def lazy_exports(
         return sorted(set(vars(sys.modules[package])) | set(where))
 
     return LazyExports(module_getattr, module_dir)
+
+
+class LazyModule:
+    """A module that is imported when one of its attributes is first read.
+
+    For a heavy dependency that a light module needs in a few functions only (``systems.py``
+    converts to and from python-control, which costs 2 s to import, in two methods): the
+    module binds ``control = LazyModule("control")`` at the top, where its imports are, and
+    ``control.tf(...)`` imports python-control on that first call (:func:`importlib.import_module`);
+    each name read is kept on the object, so later reads cost what a module's do.  Unlike
+    :class:`importlib.util.LazyLoader` nothing is put in ``sys.modules`` before the first use,
+    so ``"control" in sys.modules`` still says whether python-control was loaded.  Not for
+    names used at import time (decorators, base classes) or in a hot loop.
+
+    Parameters
+    ----------
+    name : str
+        The absolute name of the module (``"control"``, ``"scipy.signal"``).
+
+    Examples
+    --------
+    >>> signal = LazyModule("scipy.signal")
+    >>> signal.tf2zpk([1.0], [1.0, 1.0])[1]
+    array([-1.])
+    """
+
+    def __init__(self, name: str) -> None:
+        self._name = name
+
+    def __getattr__(self, attribute: str) -> Any:
+        # Called only for a name not read before: the value is then kept on this object, so
+        # that later reads are plain attribute reads (the fallback to __getattr__ alone costs
+        # about 2 us, a tenth of a call of NonlinearTable.derivative).  A module attribute
+        # replaced after its first read (a test's monkeypatch) is therefore not seen here.
+        if attribute.startswith("__"):
+            raise AttributeError(attribute)  # copy, pickle and inspect probe dunders
+        value = getattr(importlib.import_module(self._name), attribute)
+        setattr(self, attribute, value)
+        return value
+
+    def __repr__(self) -> str:
+        return f"LazyModule({self._name!r})"
+
+
+def lazy_attributes(module: str, source: str, names: tuple[str, ...]) -> Callable[[str], Any]:
+    """The module-level ``__getattr__`` (PEP 562) of ``module`` that reads ``names`` from ``source``.
+
+    For a module whose compiled kernels moved to a module of their own so that its light part
+    does not import numba: ``from impedance_mil.specimens.sensors import measure_kernel`` still
+    works, and imports ``specimens.sensor_kernels`` then.
+
+    Parameters
+    ----------
+    module : str
+        The ``__name__`` of the module that binds the result as its ``__getattr__``.
+    source : str
+        The absolute name of the module defining ``names``.
+    names : tuple of str
+        The names re-exported.
+
+    Returns
+    -------
+    callable
+        ``__getattr__ = lazy_attributes(__name__, "...", (...))``.
+    """
+    where = LazyModule(source)
+
+    def module_getattr(name: str) -> Any:
+        if name not in names:
+            raise AttributeError(f"module {module!r} has no attribute {name!r}")
+        return getattr(where, name)
+
+    return module_getattr

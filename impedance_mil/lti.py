@@ -31,14 +31,19 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import control
 import numpy as np
-import scipy.linalg
-import scipy.signal
 from numpy.typing import ArrayLike
 
 from .errors import ConfigError, ImproperSystemError
+from .lazy import LazyModule
 from .units import TWO_PI
+
+#: python-control and scipy, imported on first use (:class:`~impedance_mil.lazy.LazyModule`): only
+#: the conversions and the discretization need them, and a command that only reads a configuration
+#: should not wait 2 s for them (issue 16, start-up).
+control = LazyModule("control")
+scipy_linalg = LazyModule("scipy.linalg")
+scipy_signal = LazyModule("scipy.signal")
 
 #: Frequency points solved per batch by :meth:`StateSpace.evaluate` (bounds the memory of the batch).
 BATCH_POINTS = 2048
@@ -320,7 +325,7 @@ class StateSpace:
         block = np.zeros((n + m, n + m))
         block[:n, :n] = self.A * dt
         block[:n, n:] = self.B * dt
-        E = scipy.linalg.expm(block)
+        E = scipy_linalg.expm(block)
         return StateSpace(E[:n, :n], E[:n, n:], self.C, self.D, dt, self.inputs, self.outputs, self.states)
 
     def tustin(self, dt: float, prewarp_hz: float | None = None) -> StateSpace:
@@ -385,7 +390,7 @@ class StateSpace:
                 (input,),
                 (output,),
             )
-        A, B, C, D = scipy.signal.tf2ss(num, den)
+        A, B, C, D = scipy_signal.tf2ss(num, den)
         return cls(A, B, C, D, dt, (input,), (output,))
 
     @classmethod

@@ -11,11 +11,15 @@ function, which the MIL controller is, is improper.  See :func:`ss_to_tf`.
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
-import scipy.signal
 
 from .errors import ConfigError
+from .lazy import LazyModule
 from .lti import StateSpace
+
+#: scipy.linalg and scipy.signal, imported on first use (:class:`~impedance_mil.lazy.LazyModule`):
+#: a command that only reads a configuration does not convert (issue 16, start-up).
+scipy_linalg = LazyModule("scipy.linalg")
+scipy_signal = LazyModule("scipy.signal")
 
 #: Coefficients below this fraction of the magnitude of the terms summed into them are round-off.
 ROUNDOFF_RTOL = 1e-9
@@ -92,14 +96,14 @@ def ss_to_tf(sys: StateSpace, rtol: float = ROUNDOFF_RTOL) -> tuple[np.ndarray, 
         )
     if sys.n_states == 0:
         return np.array([float(sys.D[0, 0])]), np.ones(1)
-    A, T = scipy.linalg.matrix_balance(sys.A, permute=False)
+    A, T = scipy_linalg.matrix_balance(sys.A, permute=False)
     scaling = np.diag(T)  # powers of 2: the similarity is exact and keeps structural zeros
     b = sys.B[:, 0] / scaling
     c = sys.C[0] * scaling
     d = float(sys.D[0, 0])
     n = A.shape[0]
     num_lv, den_lv = _leverrier(A, b, c, d)
-    nums, den_sp = scipy.signal.ss2tf(A, b.reshape(n, 1), c.reshape(1, n), d)
+    nums, den_sp = scipy_signal.ss2tf(A, b.reshape(n, 1), c.reshape(1, n), d)
     num_sp = np.zeros(n + 1)
     num_sp[n + 1 - nums.shape[1] :] = nums[0]
     leading_zeros = _zeros_at_infinity(A, b, c, d, rtol)
@@ -136,7 +140,7 @@ def _zeros_numerator(A, b, c, d, n):
     N = np.zeros_like(M)
     N[:n, :n] = np.eye(n)
     with np.errstate(all="ignore"):
-        z = scipy.linalg.eigvals(M, N)
+        z = scipy_linalg.eigvals(M, N)
     z = z[np.isfinite(z) & (np.abs(z) < 1e300)]
     gain, power = d, np.eye(n)
     for _ in range(n + 1):

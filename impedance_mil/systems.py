@@ -20,13 +20,16 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-import control
 import numpy as np
 
 from .errors import ConfigError, ImproperSystemError, OperandError, SingularSystemError
+from .lazy import LazyModule
 from .lti import StateSpace
 from .ss2tf import ROUNDOFF_RTOL, ss_to_tf
 from .units import TWO_PI
+
+#: python-control, imported on first use: only the conversions need it (issue 16, start-up).
+control = LazyModule("control")
 
 #: Default relative tolerance for pole-zero cancellation.
 CANCEL_RTOL = 1e-6

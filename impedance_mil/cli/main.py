@@ -19,7 +19,7 @@ from __future__ import annotations
 import importlib
 import sys
 import warnings
-from collections.abc import Iterator, MutableMapping
+from collections.abc import Iterator, Mapping, MutableMapping
 from types import MappingProxyType
 from typing import Any, NamedTuple
 
@@ -178,12 +178,20 @@ class LazyGroup(TyperGroup):
     ``list_commands`` and ``imil --help`` read only the table; ``get_command`` (running a
     command, its ``--help``, or a walk over ``commands.items()`` as the tests do) imports the
     command's module and builds it with this group's settings, as ``add_typer`` and
-    ``command`` would have.  Commands added eagerly (``add_typer``) take precedence.
+    ``command`` would have.  Commands added eagerly (``add_typer``, ``@app.command()``)
+    take precedence, in the table's place.
+
+    A command group whose heavy commands live in another module names its own table in a
+    subclass (``cli/table.py``: ``imil table bode`` and ``rlocus`` are in
+    ``cli/table_figures.py``, which imports matplotlib), and passes it as its Typer's ``cls``.
     """
+
+    #: The group's commands by name, in the order its help lists them.
+    registry: Mapping[str, LazyCommand] = COMMANDS
 
     def __init__(self, **attrs: Any) -> None:
         super().__init__(**attrs)
-        self.commands = LoadedCommands({**COMMANDS, **self.commands}, self)
+        self.commands = LoadedCommands({**self.registry, **self.commands}, self)
 
     def build(self, name: str, target: Any) -> Command:
         """The click command of ``target``: a :class:`typer.Typer` (a group) or a function."""

@@ -14,16 +14,16 @@ parameters and refuse it naming ``--table``.
 from __future__ import annotations
 
 from pathlib import Path
+from types import MappingProxyType
 
 import typer
 
 from ..display import UnitSystem
 from ..errors import ConfigError
+from ..lazy import lazy_attributes
 from ..plant import LinearTable, TableParameters
 from ..plant.lti_table import LTITable
 from ..plant.tuning import pole_summary, tuning_summary
-from ..report import table_plots
-from ..report.motion_plots import check_figure_path
 from ..report_config import report_config
 from ..systems import pole_table
 from .common import (
@@ -37,11 +37,59 @@ from .common import (
     table_definition,
     table_parameters,
 )
+from .main import LazyCommand, LazyGroup
 
 _REPORT = report_config()
 
+#: The commands of ``imil table``, in the order its help lists them: the figures (``bode``,
+#: ``rlocus``) live in ``cli/table_figures.py`` and import matplotlib only when they run
+#: (docs/architecture.md, "The lazy command registry").
+TABLE_COMMANDS: MappingProxyType[str, LazyCommand] = MappingProxyType(
+    {
+        "info": LazyCommand(
+            "impedance_mil.cli.table:info",
+            "Parameters and derived quantities, with their units (--units us|si); an LTI table: kind, "
+            "poles, DC gains.",
+        ),
+        "poles": LazyCommand(
+            "impedance_mil.cli.table:poles",
+            "Closed-loop poles: frequency [Hz], damping [-], real/imag [rad/s]; reports instability.",
+        ),
+        "tf": LazyCommand(
+            "impedance_mil.cli.table:tf",
+            "Transfer function output/input: descending powers of s, monic denominator.",
+        ),
+        "bode": LazyCommand(
+            "impedance_mil.cli.table_figures:bode",
+            "Bode plots of the six transfer functions (PNG, magnitudes in --units us|si); an LTI "
+            "table's paths.",
+        ),
+        "rlocus": LazyCommand(
+            "impedance_mil.cli.table_figures:rlocus",
+            "Root locus of the five poles for a K_e, K_p or loop-time sweep (PNG; poles in rad/s).",
+        ),
+        "tune": LazyCommand(
+            "impedance_mil.cli.table:tune",
+            "Stability limits, break-away points and the K_p maximizing oil-column damping.",
+        ),
+    }
+)
+
+
+#: ``impedance_mil.cli.table.bode`` and ``rlocus`` read from ``cli/table_figures.py`` (PEP 562).
+__getattr__ = lazy_attributes(__name__, "impedance_mil.cli.table_figures", ("bode", "rlocus"))
+
+
+class TableGroup(LazyGroup):
+    """``imil table``: the commands of :data:`TABLE_COMMANDS`, each imported when first used."""
+
+    registry = TABLE_COMMANDS
+
+
 app = typer.Typer(
-    help="Shake-table model: parameters, poles, transfer functions, tuning.", no_args_is_help=True
+    cls=TableGroup,
+    help="Shake-table model: parameters, poles, transfer functions, tuning.",
+    no_args_is_help=True,
 )
 
 TableOpt = typer.Option(None, "--table", help="Table file (TOML with units); default: report Table 4.1.")
@@ -60,7 +108,7 @@ def _say(text: str) -> None:
     console.print(text, markup=False)
 
 
-def _delay(delay: str | None, table: TableParameters | LTITable) -> str:
+def delay_model(delay: str | None, table: TableParameters | LTITable) -> str:
     """``--delay`` for a physical table (default first-order); an LTI table's own (``--delay`` refused)."""
     if isinstance(table, LTITable):
         if delay is not None:
@@ -96,14 +144,6 @@ def _pole_lines(rows: list[dict]) -> None:
             f"{row.get('label', ''):5s} {row['frequency_hz']:9.2f} {row['damping']:8.3f} "
             f"{row['real']:14.2f} {row['imag']:14.2f}"
         )
-
-
-def _wrote(path: Path, as_json: bool, units: UnitSystem = UnitSystem.US) -> None:
-    """Report a written file: ``{"file": ...}`` with ``--json``, else ``wrote PATH``."""
-    if as_json:
-        print_json({"file": str(path)}, units)
-    else:
-        _say(f"wrote {path}")
 
 
 @app.command()
@@ -147,7 +187,7 @@ def poles(
 ) -> None:
     """Closed-loop poles: frequency [Hz], damping [-], real/imag [rad/s]; reports instability."""
     p = table_definition(table, set, lab)
-    delay = _delay(delay, p)
+    delay = delay_model(delay, p)
     if isinstance(p, LTITable):
         stable, rows = p.is_stable(), pole_table(p.poles())
     else:
@@ -179,7 +219,7 @@ def tf(
     table's function is of its design model (its [model] delay; "sampled": the first-order lag).
     """
     p = table_definition(table, set, lab)
-    delay = _delay(delay, p)
+    delay = delay_model(delay, p)
     with option_errors({"output": "--output", "input": "--input"}):
         if isinstance(p, LTITable):
             data = p.tf(output, input).to_dict()  # continuous: "sampled" designs with the first-order lag
@@ -194,46 +234,6 @@ def tf(
     _say(f"H_{output}{input}({var}) = num/den, descending powers of {var}")
     _say(f"num = {data['num']}")
     _say(f"den = {data['den']}")
-
-
-@app.command()
-def bode(
-    table: Path | None = TableOpt,
-    lab: str | None = LabOpt,
-    set: list[str] | None = SetOpt,
-    json: bool = JsonOpt,
-    delay: str = DelayOpt,
-    out: Path = typer.Option(Path("table-bode.png"), "-o", "--out", help="PNG file."),
-    fmin: float = typer.Option(0.1, "--fmin", help="Lowest frequency [Hz]."),
-    fmax: float = typer.Option(200.0, "--fmax", help="Highest frequency [Hz]."),
-    units: str | None = UnitsOpt,
-) -> None:
-    """Bode plots of the six transfer functions (PNG, magnitudes in --units us|si); an LTI table's paths."""
-    p = table_definition(table, set, lab)
-    delay = _delay(delay, p)
-    check_figure_path(out, "-o")
-    shown = output_units(units, lab, table)
-    if isinstance(p, LTITable):
-        written = table_plots.save_lti_bode(p, out, fmin=fmin, fmax=fmax, units=shown)
-    else:
-        written = table_plots.save_bode(p, out, delay=delay, fmin=fmin, fmax=fmax, units=shown)
-    _wrote(written, json, shown)
-
-
-@app.command()
-def rlocus(
-    table: Path | None = TableOpt,
-    lab: str | None = LabOpt,
-    set: list[str] | None = SetOpt,
-    json: bool = JsonOpt,
-    param: str = typer.Option("Ke", "--param", help="Ke, Kp or loop_time."),
-    upper: float | None = typer.Option(None, "--max", help="Largest value (internal units)."),
-    out: Path = typer.Option(Path("table-rlocus.png"), "-o", "--out", help="PNG file."),
-    units: str | None = UnitsOpt,
-) -> None:
-    """Root locus of the five poles for a K_e, K_p or loop-time sweep (PNG; poles in rad/s)."""
-    p = table_parameters(table, set, lab)
-    _wrote(table_plots.save_root_locus(p, param, out, upper=upper), json, output_units(units, lab, table))
 
 
 @app.command()

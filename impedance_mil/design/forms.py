@@ -31,12 +31,15 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-import control
 import numpy as np
 
 from ..errors import ConfigError, UnstableDesignError, UnstableSystemError
+from ..lazy import LazyModule
 from ..lti import StateSpace
 from ..systems import TransferFunction
+
+#: python-control, imported on first use: only :meth:`TableModel.from_control` needs it (issue 16).
+control = LazyModule("control")
 
 #: The controller forms, in the order the report introduces them.
 FORMS = ("standardized", "vs-specific", "tracking", "general")

@@ -25,11 +25,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
+from ..lazy import LazyModule
 from ..systems import TransferFunction
 from ..units import TWO_PI
 from .forms import AXIS_RTOL, imaginary_axis, right_half_plane
+
+#: scipy.optimize, imported on first use (issue 16: a command that only reads a configuration does not need it).
+scipy_optimize = LazyModule("scipy.optimize")
 
 #: Points per decade of the frequency grid used to find the worst margin.
 POINTS_PER_DECADE = 400
@@ -156,7 +159,7 @@ def _refined_minimum(fun, f: np.ndarray) -> tuple[float, float]:
         a, b = logf[max(i - 1, 0)], logf[min(i + 1, f.size - 1)]
         if b <= a:
             continue
-        res = minimize_scalar(
+        res = scipy_optimize.minimize_scalar(
             lambda x: float(fun(np.array([10.0**x]))[0]),
             bounds=(a, b),
             method="bounded",

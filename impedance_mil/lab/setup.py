@@ -12,11 +12,14 @@ import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
-import scipy.linalg
 
 from ..errors import ConfigError
+from ..lazy import LazyModule
 from ..specimens.sensors import QUANTITIES, SensorSuite
 from .structures import FilterArrays, LimitValues, SensorArrays
+
+#: scipy.linalg, imported on first use (issue 16: a command that only reads a configuration does not need it).
+scipy_linalg = LazyModule("scipy.linalg")
 
 #: Default sensor noise of the virtual lab [V rms per channel].
 DEFAULT_NOISE_V = 1.0e-3
@@ -94,7 +97,7 @@ def first_order_hold(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray
     block[:n, :n] = A * h
     block[:n, n] = B * h
     block[n, n + 1] = 1.0
-    E = scipy.linalg.expm(block)
+    E = scipy_linalg.expm(block)
     return E[:n, :n], E[:n, n] - E[:n, n + 1], E[:n, n + 1]
 
 

@@ -42,16 +42,20 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import control
 import numpy as np
-import scipy.linalg
 
 from ..errors import ConfigError, UnstableSystemError
+from ..lazy import LazyModule
 from ..lti import StateSpace
 from ..systems import TransferFunction
 from .parameters import TableParameters
 from .sampled import SampledTable
 from .statespace import INPUTS, OUTPUTS, TableStateSpace, feedback_row, plant_state_space
+
+#: python-control and scipy.linalg, imported on first use (:class:`~impedance_mil.lazy.LazyModule`):
+#: a command that only reads a configuration does not need them (issue 16, start-up).
+control = LazyModule("control")
+scipy_linalg = LazyModule("scipy.linalg")
 
 #: Delay treatments of the loop time.
 DELAYS = ("none", "first-order", "pade", "sampled")
@@ -90,7 +94,7 @@ def pade_state_space(tau: float, order: int) -> DelayApproximation:
     the natural variable), so that short delays do not give huge coefficients.
     """
     unit = StateSpace.from_polynomials(*control.pade(1.0, order))
-    A1, T = scipy.linalg.matrix_balance(unit.A, permute=False)
+    A1, T = scipy_linalg.matrix_balance(unit.A, permute=False)
     scaling = np.diag(T)
     return DelayApproximation(
         A1 / tau, unit.B[:, 0] / scaling / tau, unit.C[0] * scaling, float(unit.D[0, 0])

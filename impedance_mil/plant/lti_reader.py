@@ -10,10 +10,10 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-import scipy.linalg
 
 from ..config import quantity
 from ..errors import ConfigError
+from ..lazy import LazyModule
 from ..lti import StateSpace
 from ..systems import TransferFunction
 from .capacity import TableCapacity
@@ -29,6 +29,9 @@ from .lti_table import (
     table_system,
 )
 from .statespace import TableStateSpace
+
+#: scipy.linalg, imported on first use (issue 16: a command that only reads a configuration does not need it).
+scipy_linalg = LazyModule("scipy.linalg")
 
 _COMMON_KEYS = ("kind", "loop_time", "delay", "units", "allow_unstable", "pade_order")
 _PATH_KEYS = tuple(f"H_{o}{i}" for o in LTI_OUTPUTS for i in LTI_INPUTS)
@@ -196,8 +199,8 @@ def _path_model(section: Mapping[str, Any], units: Mapping[str, Any], key: str, 
             if (o, i) not in paths:
                 raise ConfigError(f"{key}H_{o}{i}", f"given with the other paths of {o} (or none of {o})")
     columns = [_column(i, [paths[(o, i)] for o in outputs]) for i in inputs]
-    A = scipy.linalg.block_diag(*[c.A for c in columns]) if columns else np.zeros((0, 0))
-    B = scipy.linalg.block_diag(*[c.B for c in columns])
+    A = scipy_linalg.block_diag(*[c.A for c in columns]) if columns else np.zeros((0, 0))
+    B = scipy_linalg.block_diag(*[c.B for c in columns])
     C = np.hstack([c.C for c in columns])
     D = np.hstack([c.D for c in columns])
     states = tuple(s for c in columns for s in c.states)

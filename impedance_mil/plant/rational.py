@@ -35,10 +35,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.optimize
 
 from ..errors import ConfigError
+from ..lazy import LazyModule
 from ..signals.frf import FRF, log_covariance
+
+#: scipy.optimize, imported on first use (issue 16: a command that only reads a configuration does not need it).
+scipy_optimize = LazyModule("scipy.optimize")
 
 #: SK iterations at most, and the relative change of the poles that stops them.
 SK_ITERATIONS = 60
@@ -338,7 +341,7 @@ def _fit(x, h, weight, q: int, order: int, m: int, w0: float) -> RationalFit:
         d = layout.log_jacobian(th, x) * weight[:, None]
         return np.vstack([d.real, d.imag])
 
-    sol = scipy.optimize.least_squares(
+    sol = scipy_optimize.least_squares(
         lambda th: _log_residual(layout.model(th, x), h, weight),
         start,
         jac=jacobian,

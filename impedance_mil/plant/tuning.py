@@ -15,13 +15,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.optimize
 
 from ..errors import ConfigError
+from ..lazy import LazyModule
 from ..systems import pole_table
 from .linear import LinearTable
 from .parameters import TableParameters
 from .statespace import plant_state_space
+
+#: scipy.optimize, imported on first use (issue 16: a command that only reads a configuration does not need it).
+scipy_optimize = LazyModule("scipy.optimize")
 
 #: Report labels of the five poles of Eq 4-14 (Tables 4.2, 4.3).
 POLE_LABELS = ("p1", "p2", "p3", "p4", "p5")
@@ -68,7 +71,7 @@ class Mode:
 def _match(previous: np.ndarray, current: np.ndarray) -> np.ndarray:
     """Reorder ``current`` so that each entry continues the same entry of ``previous``."""
     cost = np.abs(previous[:, None] - current[None, :])
-    rows, cols = scipy.optimize.linear_sum_assignment(cost)
+    rows, cols = scipy_optimize.linear_sum_assignment(cost)
     return current[cols[np.argsort(rows)]]
 
 
@@ -282,7 +285,7 @@ def recommend_kp(p: TableParameters, delay: str = "first-order", upper: float = 
     values = [negative_damping(k) for k in grid]
     i = int(np.argmin(values))
     lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
-    res = scipy.optimize.minimize_scalar(
+    res = scipy_optimize.minimize_scalar(
         negative_damping, bounds=(lo, hi), method="bounded", options={"xatol": 1e-7}
     )
     mode = oil_column_mode(p.replace(Kp=float(res.x)), delay)
@@ -363,7 +366,7 @@ def first_order_validity_limit(
         if excess(float(tau)) > 0:
             if prev is None:
                 return 0.0
-            return float(scipy.optimize.brentq(excess, prev, float(tau), xtol=1e-7))
+            return float(scipy_optimize.brentq(excess, prev, float(tau), xtol=1e-7))
         prev = float(tau)
     return None
 

@@ -16,9 +16,12 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.optimize
 
 from ..errors import ConfigError
+from ..lazy import LazyModule
+
+#: scipy.optimize, imported on first use (issue 16: a command that only reads a configuration does not need it).
+scipy_optimize = LazyModule("scipy.optimize")
 
 
 @dataclass(frozen=True, eq=False)
@@ -245,7 +248,7 @@ def fit_frf(
         params.update({n: float(np.exp(t)) for n, t in zip(free, theta)})
         return _log_residual(model(params, data.frequency_hz), data.response, weight)
 
-    sol = scipy.optimize.least_squares(
+    sol = scipy_optimize.least_squares(
         residual, x0, bounds=(x0 - span, x0 + span), x_scale=1.0, xtol=1e-12, ftol=1e-12
     )
     fitted = dict(initial)

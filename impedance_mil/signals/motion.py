@@ -19,11 +19,14 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 import numpy as np
-from scipy.signal import resample_poly
 
 from ..bounds import MAX_RECORD_SAMPLES, check_count
 from ..errors import ConfigError
+from ..lazy import LazyModule
 from ..units import G0
+
+#: scipy.signal, imported on first use: only resampling needs it (issue 16, start-up).
+scipy_signal = LazyModule("scipy.signal")
 
 #: Largest up or down factor accepted for rational resampling.
 MAX_RESAMPLE_FACTOR = 1000
@@ -228,7 +231,7 @@ class GroundMotion:
         check_count("time_step", self.npts * up / down, MAX_RECORD_SAMPLES, "samples in the resampled record")
         if up == down:
             return self._derived(self.time_step, self.accel, "resampled (unchanged)")
-        out = resample_poly(self.accel, up, down)
+        out = scipy_signal.resample_poly(self.accel, up, down)
         return self._derived(
             self.time_step * down / up, out, f"resampled to dt = {new_dt:.6g} s ({up}/{down}, anti-aliased)"
         )

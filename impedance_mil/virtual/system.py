@@ -22,14 +22,18 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError
+from ..lazy import LazyModule
 from ..systems import TransferFunction
 from ..units import G0
 from .base import LinearPart, VirtualSystem, VSOutput, VSResponse, inputs_of, nonnegative, state_of
-from .codegen import compiled
 from .definition import VSDefinition, python_eval
 from .expressions import CONSTANTS
-from .kernels import OUT_DISP, OUT_FORCE, OUT_VEL, OUT_Z, outputs_along, simulate_records
 from .structure import linear_matrices, linear_structure
+
+#: The generated kernels and the loops over a history (numba), imported on first use: building,
+#: listing and describing a system does not compile or load them (issue 16, start-up).
+codegen = LazyModule("impedance_mil.virtual.codegen")
+kernels = LazyModule("impedance_mil.virtual.kernels")
 
 #: Residue threshold of the linear part's numerators (relative, on the system's frequency scale).
 RESIDUE_RTOL = 1e-9
@@ -127,28 +131,33 @@ class DefinedVS(VirtualSystem):
 
     def derivative(self, x, a_g: float, w: float) -> np.ndarray:
         out = np.empty(self.n_states)
-        compiled(self.definition).derivative(self._params, state_of(x), float(a_g), float(w), out)
+        codegen.compiled(self.definition).derivative(self._params, state_of(x), float(a_g), float(w), out)
         return out
 
     def _outputs(self, x, a_g: float, w: float) -> np.ndarray:
-        kern = compiled(self.definition)
+        kern = codegen.compiled(self.definition)
         out = np.empty(kern.n_outputs)
         kern.outputs(self._params, state_of(x), float(a_g), float(w), out)
         return out
 
     def outputs(self, x, a_g: float, w: float) -> VSOutput:
         o = self._outputs(x, a_g, w)
-        return VSOutput(float(o[OUT_Z]), float(o[OUT_DISP]), float(o[OUT_VEL]), float(o[OUT_FORCE]))
+        return VSOutput(
+            float(o[kernels.OUT_Z]),
+            float(o[kernels.OUT_DISP]),
+            float(o[kernels.OUT_VEL]),
+            float(o[kernels.OUT_FORCE]),
+        )
 
     def nonlinear_input(self, x) -> float:
         if not self.definition.nonlinear_inputs:
             return 0.0
-        return float(self._outputs(x, 0.0, 0.0)[OUT_FORCE + 1])
+        return float(self._outputs(x, 0.0, 0.0)[kernels.OUT_FORCE + 1])
 
     def step_rk3(self, x, a_g: float, w: float, dt: float) -> np.ndarray:
         xs = state_of(x).copy()
         work = np.empty(4 * max(self.n_states, 1))
-        compiled(self.definition).tick64(self._params, xs, float(a_g), float(w), float(dt), work)
+        codegen.compiled(self.definition).tick64(self._params, xs, float(a_g), float(w), float(dt), work)
         return xs
 
     def simulate(self, a_g, w=None, dt: float = 0.0005, x0=None) -> VSResponse:
@@ -156,10 +165,10 @@ class DefinedVS(VirtualSystem):
             raise ConfigError("dt", "a positive time step in s", dt)
         a, ww = inputs_of(a_g, w)
         x = self.initial_state() if x0 is None else state_of(x0).copy()
-        kern = compiled(self.definition)
+        kern = codegen.compiled(self.definition)
         rec = np.empty((a.size, kern.n_outputs))
         work = np.empty(4 * max(self.n_states, 1))
-        simulate_records(
+        kernels.simulate_records(
             (kern.outputs, kern.tick64),
             self._params,
             x,
@@ -170,15 +179,15 @@ class DefinedVS(VirtualSystem):
             np.empty(kern.n_outputs),
             rec,
         )
-        fh = rec[:, OUT_FORCE + 1].copy() if self.definition.nonlinear_inputs else np.zeros(a.size)
+        fh = rec[:, kernels.OUT_FORCE + 1].copy() if self.definition.nonlinear_inputs else np.zeros(a.size)
         return VSResponse(
             np.arange(a.size) * dt,
             a,
             ww,
-            rec[:, OUT_Z].copy(),
-            rec[:, OUT_DISP].copy(),
-            rec[:, OUT_VEL].copy(),
-            rec[:, OUT_FORCE].copy(),
+            rec[:, kernels.OUT_Z].copy(),
+            rec[:, kernels.OUT_DISP].copy(),
+            rec[:, kernels.OUT_VEL].copy(),
+            rec[:, kernels.OUT_FORCE].copy(),
             fh,
             x,
         )
@@ -186,10 +195,10 @@ class DefinedVS(VirtualSystem):
     def force_along(self, states) -> np.ndarray:
         """Isolator force [lbf] at each row of ``states`` (compiled: one call for the whole record)."""
         x = np.ascontiguousarray(states, dtype=float).reshape(-1, self.n_states)
-        kern = compiled(self.definition)
+        kern = codegen.compiled(self.definition)
         rec = np.empty((x.shape[0], kern.n_outputs))
-        outputs_along((kern.outputs,), self._params, x, np.empty(kern.n_outputs), rec)
-        return rec[:, OUT_FORCE].copy()
+        kernels.outputs_along((kern.outputs,), self._params, x, np.empty(kern.n_outputs), rec)
+        return rec[:, kernels.OUT_FORCE].copy()
 
     def linear_part(self) -> LinearPart:
         """Transfer functions of the linear part (Figures 5.3, 5.5), from the definition.

@@ -14,7 +14,11 @@ import sys
 import pytest
 import typer
 
-from impedance_mil.cli.main import COMMANDS, app, load_target
+from impedance_mil.cli import table, table_figures, vs, vs_figures
+from impedance_mil.cli.main import COMMANDS, LazyGroup, app, load_target
+from impedance_mil.cli.table import TABLE_COMMANDS
+from impedance_mil.cli.vs import VS_COMMANDS
+from impedance_mil.plant import default_table_path
 
 try:
     from typer._click.utils import make_default_short_help
@@ -53,6 +57,64 @@ def test_help_imports_no_command_module_and_nothing_heavy():
     assert imported_by("--help") == set()
 
 
+#: What a command that only reads a configuration may not import (issue 16, goal 1): HEAVY but
+#: dask, which pint (the configuration's units) imports itself in pint.compat, and scipy.signal.
+CONFIGURATION_HEAVY = (*(m for m in HEAVY if m != "dask"), "scipy.signal")
+
+#: Prints, after ``imil ARGS`` ran, the modules of CONFIGURATION_HEAVY it imported.
+CONFIGURATION_PROBE = """
+import atexit, sys
+atexit.register(lambda: print(" ".join(sorted(m for m in {heavy!r} if m in sys.modules))))
+from impedance_mil.cli.main import run
+sys.argv = ["imil", *sys.argv[1:]]
+run()
+"""
+
+#: The configuration commands, with and without --json, and with --lab or --table FILE.
+CONFIGURATION_COMMANDS = [
+    ("table", "info"),
+    ("table", "info", "--json"),
+    ("table", "info", "--table", str(default_table_path())),
+    ("table", "info", "--lab", "report", "--json"),
+    ("vs", "list"),
+    ("vs", "list", "--json"),
+    ("vs", "describe", "SD2", "--json"),
+    ("lab", "show"),
+    ("lab", "show", "--json"),
+    ("lab", "show", "--table", str(default_table_path())),
+    ("lab", "show", "--lab", "report", "--units", "si"),
+]
+
+
+@pytest.mark.parametrize("args", CONFIGURATION_COMMANDS, ids=" ".join)
+def test_a_configuration_command_imports_no_heavy_module(args):
+    done = subprocess.run(
+        [sys.executable, "-c", CONFIGURATION_PROBE.format(heavy=CONFIGURATION_HEAVY), *args],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert done.stdout.splitlines()[-1].split() == []  # the probe's line comes last
+
+
+def test_the_configuration_probe_sees_a_heavy_module():
+    # The probe is not blind: a command that draws imports matplotlib (imil table bode).
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            CONFIGURATION_PROBE.format(heavy=CONFIGURATION_HEAVY),
+            "table",
+            "bode",
+            "--help",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert "matplotlib" in done.stdout.splitlines()[-1].split()
+
+
 #: A light name of each package, and what importing it may not pull in (issue 16: the package
 #: ``__init__`` files import their names on first use, impedance_mil/lazy.py).
 LIGHT_NAMES = {
@@ -60,10 +122,15 @@ LIGHT_NAMES = {
     "from impedance_mil.plant import TableParameters": tuple(m for m in HEAVY if m != "dask"),
     "from impedance_mil.lab import RunResult": HEAVY,
     "from impedance_mil.signals import GroundMotion": HEAVY,
-    # design and implement import python-control with passivity and discretize, names of their
-    # own submodules, which cannot be lazy (impedance_mil/lazy.py)
+    # design and implement import passivity and discretize at the top (names of their own
+    # submodules, which cannot be lazy), and those read python-control only when used (LazyModule)
     "import impedance_mil.plant, impedance_mil.lab, impedance_mil.signals, impedance_mil.virtual, "
-    "impedance_mil.specimens, impedance_mil.campaign": (*HEAVY, "pint", "scipy.signal", "h5py"),
+    "impedance_mil.specimens, impedance_mil.campaign, impedance_mil.design, impedance_mil.implement": (
+        *HEAVY,
+        "pint",
+        "scipy.signal",
+        "h5py",
+    ),
 }
 
 
@@ -104,3 +171,41 @@ def test_table_help_is_the_commands_own_first_sentence(name):
 def test_every_target_exists():
     for entry in COMMANDS.values():
         assert callable(load_target(entry.target)) or isinstance(load_target(entry.target), typer.Typer)
+
+
+#: The command groups with a registry of their own (``cli/table.py``, ``cli/vs.py``).
+GROUP_REGISTRIES = {"table": TABLE_COMMANDS, "vs": VS_COMMANDS}
+
+
+@pytest.mark.parametrize(
+    ("group", "name"), [(g, n) for g, table in GROUP_REGISTRIES.items() for n in table], ids="-".join
+)
+def test_a_group_registry_help_is_the_commands_own_first_sentence(group, name):
+    command = typer.main.get_command(app).commands[group].commands[name]
+    for limit in (45, 80, 10_000):
+        assert make_default_short_help(
+            GROUP_REGISTRIES[group][name].help, limit
+        ) == command.get_short_help_str(limit)
+
+
+@pytest.mark.parametrize("group", list(GROUP_REGISTRIES))
+def test_a_group_lists_its_registry_in_order_and_every_target_exists(group, imil, tmp_path):
+    built = typer.main.get_command(app).commands[group]
+    assert isinstance(built, LazyGroup)
+    assert list(built.commands) == list(GROUP_REGISTRIES[group])
+    listed = [
+        line.split()[0]
+        for line in imil(group, "--help", cwd=tmp_path).stdout.split("Commands:")[1].splitlines()
+        if line.strip()
+    ]
+    assert listed == list(GROUP_REGISTRIES[group])
+    for entry in GROUP_REGISTRIES[group].values():
+        assert callable(load_target(entry.target))
+
+
+def test_the_commands_moved_out_of_a_group_module_are_importable_where_they_were():
+    assert (table.bode, table.rlocus, vs.loops) == (
+        table_figures.bode,
+        table_figures.rlocus,
+        vs_figures.loops,
+    )
