@@ -43,8 +43,8 @@ from .kernels import (
     track_step,
 )
 from .lti_plant import ROW_V
-from .stepping import Q_DP, Q_W, Q_X, Q_Z, filter_step
-from .structures import Measurements, PlantTruth
+from .stepping import filter_step
+from .structures import Q_DP, Q_W, Q_X, Q_Z, Measurements, PlantTruth
 
 
 @njit(cache=True, inline="always", error_model="numpy")

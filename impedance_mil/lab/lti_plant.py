@@ -42,8 +42,7 @@ from ..errors import ConfigError
 from ..lti import StateSpace
 from ..plant.statespace import TableStateSpace
 from .setup import SafetyLimits
-from .stepping import Q_DP, Q_FORCE, Q_W, Q_X, Q_Z
-from .structures import LimitValues, LTIArrays
+from .structures import Q_DP, Q_FORCE, Q_W, Q_X, Q_Z, LimitValues, LTIArrays
 
 #: Row of the velocity [in/s] in (column of its transpose) :attr:`LTIArrays.out_t` (after the sensed quantities).
 ROW_V = 5

@@ -29,14 +29,7 @@ from ..plant.nonlinear import (
     table_derivative,
     table_rates,
 )
-from ..specimens.sensors import QUANTITIES
-
-# Slots of the true quantities the sensors measure (the order of QUANTITIES).
-Q_Z = QUANTITIES.index("table_acceleration")
-Q_X = QUANTITIES.index("table_displacement")
-Q_DP = QUANTITIES.index("differential_pressure")
-Q_FORCE = QUANTITIES.index("actuator_force")
-Q_W = QUANTITIES.index("interface_force")
+from .structures import Q_DP, Q_FORCE, Q_X, Q_Z
 
 #: Specimen kinds (how :func:`plant_advance` evaluates the specimen): a general
 #: state space in compressed-row form, or a bank of base-excited oscillators.

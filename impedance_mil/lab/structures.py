@@ -25,6 +25,15 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..specimens.sensors import QUANTITIES
+
+# Slots of the true quantities the sensors measure (the order of QUANTITIES).
+Q_Z = QUANTITIES.index("table_acceleration")
+Q_X = QUANTITIES.index("table_displacement")
+Q_DP = QUANTITIES.index("differential_pressure")
+Q_FORCE = QUANTITIES.index("actuator_force")
+Q_W = QUANTITIES.index("interface_force")
+
 #: Loop modes (:class:`LoopControl`): open loop (``u`` given), tracking (``z_vs = a_g``), MIL.
 MODE_OPEN, MODE_TRACK, MODE_MIL = 0, 1, 2
 #: Feedback sources of w: reaction load cells or force equilibrium (Section 8.3.2, App. C).
