@@ -61,11 +61,6 @@ from ..plant.nonlinear import (
 )
 from ..specimens.sensors import force_from_equilibrium, load_cell_force_kernel, measure_kernel, read_channel
 from .stepping import (
-    Q_DP,
-    Q_FORCE,
-    Q_W,
-    Q_X,
-    Q_Z,
     SPEC_BANK,
     SPEC_CSR,
     coupled_derivative,
@@ -73,7 +68,7 @@ from .stepping import (
     plant_advance,
     specimen_force_state,
 )
-from .structures import Measurements, PlantTruth, record_loop
+from .structures import Q_DP, Q_FORCE, Q_W, Q_X, Q_Z, Measurements, PlantTruth, record_loop
 from .trips import TripCause
 
 
