@@ -17,6 +17,7 @@ from impedance_mil.signals import (
     read_at2,
     read_columns,
     read_motion,
+    readers,
     write_columns,
 )
 from impedance_mil.units import G0
@@ -239,3 +240,33 @@ def test_at2_any_layout_round_trip(tmp_path_factory, samples, per_line):
     np.testing.assert_allclose(
         read_at2(path).accel, np.array([float(f"{v:.7E}") for v in values]) * G0, rtol=1e-15
     )
+
+
+def test_the_column_reader_parses_at_once_exactly_as_line_by_line(tmp_path):
+    # numpy's C reader (the fast path) against the line-by-line parser (Python float):
+    # the same values bit for bit, with commas, semicolons, tabs, Fortran D exponents,
+    # blank lines, comments and a header.
+    rng = np.random.default_rng(3)
+    accel = rng.normal(scale=0.3, size=2000)
+    lines = ["time [s], accel [g]", "# a comment"]
+    for k, a in enumerate(accel):
+        sep = (", ", ";", "\t", "  ")[k % 4]
+        value = f"{a:.15E}".replace("E", "D") if k % 5 == 0 else repr(float(a))
+        lines.append(f"{k * 0.005!r}{sep}{value}")
+        if k % 97 == 0:
+            lines += ["", "# inside"]
+    fast, first = readers._column_rows(tmp_path / "m.csv", lines)
+    slow, first_slow = readers._column_rows_by_line(tmp_path / "m.csv", lines)
+    assert first == first_slow == 3 and fast.shape == (2000, 2)
+    np.testing.assert_array_equal(fast, slow)
+
+
+@pytest.mark.parametrize(
+    "bad, what",
+    [("0.01 nan", "non-finite"), ("0.01 2 3", "expected 2 columns"), ("0.01 x", "non-numeric")],
+)
+def test_a_bad_row_after_the_header_is_named_by_its_line(tmp_path, bad, what):
+    # the fast path does not take it; the line-by-line reader names line 4
+    lines = ["t a", "0 0.1", "0.005 0.2", bad, "0.015 0.3"]
+    with pytest.raises(DataFileError, match=f"line 4: {what}"):
+        readers._column_rows(tmp_path / "m.csv", lines)
