@@ -178,6 +178,12 @@ def design(
     grid: int = typer.Option(
         OptimizationSettings().check_per_decade, "--grid", help="Optimized: dense check grid [points/decade]."
     ),
+    reduce: str = typer.Option(
+        "none",
+        "--reduce",
+        help="Optimized: order reduction of the realization: none | auto (smallest orders keeping the "
+        "I/II/III verdicts and the certificate) | ORDER (states of each path).",
+    ),
     frf: Path | None = typer.Option(
         None,
         "--frf",
@@ -229,7 +235,7 @@ def design(
             check_order(order)
     if fc_w is not None and not 0 < fc_w < math.inf:
         raise ConfigError("--fc-w", "a positive cut-off frequency in Hz", fc_w)
-    settings, amplitudes = _optimization_options(margin, margin_band, grid, robust_amplitudes)
+    settings, amplitudes = _optimization_options(margin, margin_band, grid, robust_amplitudes, reduce)
     fcs = [_DESIGN.fc_hz] if fc is None else _parse_fc(fc)
     band_values = _parse_list("--band", band, 2)
     criteria_given: dict[str, Any] = {
@@ -372,11 +378,12 @@ OPTIMIZED_OPTIONS = {
     "margin_band": "--margin-band",
     "basis": "--method",
     "check_per_decade": "--grid",
+    "reduce": "--reduce",
 }
 
 
 def _optimization_options(
-    margin: float, margin_band: str | None, grid: int, amplitudes: str
+    margin: float, margin_band: str | None, grid: int, amplitudes: str, reduce: str = "none"
 ) -> tuple[OptimizationSettings, list[float]]:
     """The optimized design's settings and robust DF amplitudes [in], checked (for any method)."""
     band = _parse_list("--margin-band", margin_band, 2) or []
@@ -385,6 +392,7 @@ def _optimization_options(
             margin_deg=margin,
             passivity_band_hz=(band[0], band[1]) if band else None,
             check_per_decade=grid,
+            reduce=reduce,
         )
     return settings, _parse_list("--robust-amplitudes", amplitudes) or []
 

@@ -32,6 +32,7 @@ from .exchange import dense_rows, exchange, log_points
 from .indices import with_indices
 from .models import RationalTarget, robust_set
 from .problem import OptimizationSettings, Problem, Rows, rows_for
+from .realize import realize
 
 
 def _targets(vs: VirtualModel, robust_vs: Mapping[str, VirtualModel]) -> dict[str, Any]:
@@ -114,16 +115,13 @@ def build_problem(
     return dataclasses.replace(problem, scale=_column_scale(problem))
 
 
-def _margins_on(problem: Problem, dense: list[Rows], x: np.ndarray) -> dict[str, float]:
-    """Smallest raw passivity margin [deg] of each model on the dense grid."""
+def _margins_on(problem: Problem, dense: list[Rows], Cz, Cw) -> dict[str, float]:
+    """Smallest raw passivity margin [deg] of each model on the dense grid, controller paths ``Cz``, ``Cw``."""
     out: dict[str, float] = {}
     for m in problem.models:
         f = next(R.f_hz for R in dense if R.kind == "III+" and R.model == m.name)
         r = m.responses(f)
-        nz = problem.basis.n_z
-        Pz = problem.basis.columns_z(r.s_controller) @ x[:nz]
-        Pw = problem.basis.columns_w(r.s_controller) @ x[nz:]
-        h = r.P_vw + r.P_vu * (Pw + Pz * r.Z)
+        h = r.P_vw + r.P_vu * (Cw.response(r.s_controller) + Cz.response(r.s_controller) * r.Z)
         out[m.name] = float(np.min(90.0 - np.abs(np.degrees(np.angle(h)))))
     return out
 
@@ -152,6 +150,11 @@ def _certificate(params: TableParameters, vs: VirtualModel, problem: Problem, x:
     """The grid-free certificate of the coefficients ``x`` on the first-order model (see :mod:`.certify`)."""
     xz, xw = problem.split(x)
     Cz, Cw = path_state_space(problem.basis, xz, "z"), path_state_space(problem.basis, xw, "w")
+    return _certificate_of(params, vs, problem, Cz, Cw)
+
+
+def _certificate_of(params: TableParameters, vs: VirtualModel, problem: Problem, Cz, Cw):
+    """The grid-free certificate of the realized paths ``Cz``, ``Cw`` (state spaces) on the first-order model."""
     table_ss = LinearTable(params, delay="first-order").state_space()
     return certify(
         "first-order/" + ("rational" if vs.equivalent is not None else "linear"),
@@ -335,23 +338,37 @@ def _finish(
     """Render the coefficients as a ControllerDesign with the constraints, indices and certificates."""
     basis = problem.basis
     xz, xw = problem.split(x)
-    H_uz = basis.transfer_function(xz, "z")
-    H_uw = basis.transfer_function(xw, "w")
+
+    def verdicts(Cz, Cw, H_uz, H_uw) -> dict:
+        ct = controlled_table(tm, vs, H_uz, H_uw, "standardized")
+        r = evaluate_constraints(tm, vs, ct, fc_hz, criteria)
+        return {
+            "I": r.I,
+            "II": r.II,
+            "III": r.III,
+            "certified": _certificate_of(params, vs, problem, Cz, Cw).passive,
+        }
+
+    real = realize(
+        basis, xz, xw, settings.reduce, settings.reduce_tolerance, criteria.band_hz, tm.nyquist_hz, verdicts
+    )
+    H_uz, H_uw, Cz, Cw = real.H_uz, real.H_uw, real.C_z, real.C_w
     f = log_points((criteria.band_hz[0], tm.nyquist_hz), 50)
     s = 1j * TWO_PI * f
-    exact = np.concatenate([basis.columns_z(s) @ xz, basis.columns_w(s) @ xw])
+    # The rendered transfer functions against the realization they come from (the basis, or the reduced paths).
+    exact = np.concatenate([Cz.response(s), Cw.response(s)])
     rendered = np.concatenate([H_uz(s), H_uw(s)])
     ct = controlled_table(tm, vs, H_uz, H_uw, "standardized")
     result = evaluate_constraints(tm, vs, ct, fc_hz, criteria)
-    Cz, Cw = path_state_space(basis, xz, "z"), path_state_space(basis, xw, "w")
-    cert = _certificate(params, vs, problem, x)
+    cert = _certificate_of(params, vs, problem, Cz, Cw)
     filt = design_controller(tm, vs, fc_hz=fc_hz, criteria=criteria, emit_warnings=False)
     report.update(
         {
             "certificate": cert.to_dict(),
             "certified": cert.passive,
             "margin_deg": float(problem.margin_deg),
-            "dense_margins_deg": _margins_on(problem, dense, x),
+            "dense_margins_deg": _margins_on(problem, dense, Cz, Cw),
+            "reduction": real.record,
             "objective_on_grid": float(res.solution.t)
             if report["binding"] is None and "error_cap" not in report
             else None,

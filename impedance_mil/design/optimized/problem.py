@@ -67,6 +67,20 @@ def require_solver():
     return cp
 
 
+def reduce_request(value: str | int) -> str | int:
+    """``"none"``, ``"auto"`` or a positive order (an integer, or its text), checked."""
+    text = str(value).strip().lower()
+    if text in ("none", "auto"):
+        return text
+    try:
+        order = int(text)
+    except ValueError:
+        order = 0
+    if order < 1:
+        raise ConfigError("reduce", "none, auto or a positive order (states of each path)", value)
+    return order
+
+
 @dataclass(frozen=True)
 class OptimizationSettings:
     """Targets, bounds and grids of the optimized design.
@@ -93,6 +107,14 @@ class OptimizationSettings:
         Exchange rounds before giving up.
     tolerance : float
         Violation (dimensionless, of a scaled row) accepted on the dense grid.
+    reduce : str or int
+        Order reduction of the realization (:mod:`.realize`): ``"none"``,
+        ``"auto"`` (the smallest orders that keep the verdicts of I, II, III
+        and the certificate) or the order of each path (an integer, the
+        double integrator of ``C_z`` counted).
+    reduce_tolerance : float
+        First relative path error tried by ``"auto"`` (dimensionless; then
+        tenfold smaller until the verdicts are kept).
     """
 
     margin_deg: float = 0.0
@@ -103,6 +125,8 @@ class OptimizationSettings:
     check_per_decade: int = 2000
     max_rounds: int = 25
     tolerance: float = 1e-6
+    reduce: str | int = "none"
+    reduce_tolerance: float = 1e-3
 
     def __post_init__(self):
         # A cone wider than a half-plane (negative margin) is not convex: 0 <= delta.
@@ -115,7 +139,8 @@ class OptimizationSettings:
                     "margin_band", "two frequencies 0 < low < high in Hz", self.passivity_band_hz
                 )
             object.__setattr__(self, "passivity_band_hz", (lo, hi))
-        for key in ("transition_gain_max", "tolerance"):
+        object.__setattr__(self, "reduce", reduce_request(self.reduce))
+        for key in ("transition_gain_max", "tolerance", "reduce_tolerance"):
             if not float(getattr(self, key)) > 0:
                 raise ConfigError(key, "a positive number", getattr(self, key))
         if not self.effort_weight >= 0:
@@ -153,6 +178,8 @@ class OptimizationSettings:
             "check_per_decade": int(self.check_per_decade),
             "max_rounds": int(self.max_rounds),
             "tolerance": float(self.tolerance),
+            "reduce": self.reduce,
+            "reduce_tolerance": float(self.reduce_tolerance),
         }
 
 
