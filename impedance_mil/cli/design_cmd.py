@@ -32,6 +32,7 @@ import typer
 
 from ..config import parse_overrides
 from ..design import DesignCriteria, design_controller, save_design, table_model, virtual_model
+from ..design.constraints import PASSIVITY_MODELS
 from ..design.feasibility import FcScan, choose_fc, mass_ratio_study, scan_fc
 from ..design.filters import FAMILIES, check_order, check_ripple
 from ..design.forms import FORMS, TableModel, VirtualModel
@@ -178,6 +179,12 @@ def design(
     grid: int = typer.Option(
         OptimizationSettings().check_per_decade, "--grid", help="Optimized: dense check grid [points/decade]."
     ),
+    passivity_model: str = typer.Option(
+        "first-order",
+        "--passivity-model",
+        help="Model of constraint III's verdict: first-order (delay model with its tolerance, "
+        "reproduces Table 9.5) | sampled (exact sampled-data table, with the hold) | strictest (both).",
+    ),
     reduce: str = typer.Option(
         "none",
         "--reduce",
@@ -224,6 +231,8 @@ def design(
         raise ConfigError("--map-x", "the standardized form, without --mass-ratios and --frf")
     if output is not None and not output.parent.is_dir():
         raise ConfigError("-o", "a path in an existing folder", str(output))
+    if passivity_model not in PASSIVITY_MODELS:
+        raise ConfigError("--passivity-model", " | ".join(PASSIVITY_MODELS), passivity_model)
     if method not in ("filter", "optimized", "both") or (method == "both") != mapping:
         raise ConfigError(
             "--method", "filter or optimized, or both with --map-x and --map-y (the feasibility map)", method
@@ -249,6 +258,10 @@ def design(
     ratios = _parse_list("--mass-ratios", mass_ratios)
     params = table_definition(table, sets, lab)  # physical, or an LTI table ([model])
     tm = table_model(params)
+    if passivity_model != "first-order" and not isinstance(params, TableParameters):
+        raise ConfigError(
+            "--passivity-model", "first-order for an LTI table (no sampled-data model)", passivity_model
+        )
     measured_frf = _read_frf(frf, frf_tolerance, frf_controller, tm.loop_time_s)
     frf_kw: dict[str, Any] = dict(tolerance=frf_tolerance, controller_model=frf_controller, criteria=criteria)
     spec = None
@@ -282,6 +295,8 @@ def design(
         if fcs is None:
             raise ConfigError("--fc", "a reference cut-off in Hz for --method optimized (not auto)", fc)
         result = _optimized(params, spec, lin, vm, fcs[0], criteria, settings, amplitudes)
+        if passivity_model != "first-order":
+            result = with_indices(result, params, vm, criteria, warn=False, passivity_model=passivity_model)
         measured = _measured_checks(result, measured_frf, None, vm, frf_kw)
         if output is not None:
             save_design(result, output)
@@ -314,7 +329,7 @@ def design(
             **kw,
         )
     if isinstance(params, TableParameters):  # the sampled-data indices need the physical table
-        result = with_indices(result, params, vm, criteria, warn=False)
+        result = with_indices(result, params, vm, criteria, warn=False, passivity_model=passivity_model)
     measured = _measured_checks(result, measured_frf, tm, vm, frf_kw)
     study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []
     written = (

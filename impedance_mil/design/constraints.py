@@ -40,7 +40,12 @@ from .passivity import PassivityResult, log_grid_hz, passivity
 HALF_POWER_ERROR = 1.0 - 10.0 ** (-3.0 / 20.0)
 
 #: Fields of :class:`ConstraintResult` that may be absent (None): the passivity indices.
-OPTIONAL_FIELDS = ("passivity_margin_sampled_deg", "passivity_index")
+OPTIONAL_FIELDS = ("passivity_margin_sampled_deg", "passivity_index", "III_design_model", "III_sampled")
+
+#: Which model's passivity verdict constraint III reports (docs/design.md, "The design model and the hold"):
+#: the first-order delay model with its tolerance (reproduces Table 9.5; the default), the exact
+#: sampled-data table (with the command hold), or the stricter of the two.
+PASSIVITY_MODELS = ("first-order", "sampled", "strictest")
 
 #: Points per decade for the performance and effort metrics.
 GRID_PER_DECADE = 200
@@ -182,6 +187,12 @@ class ConstraintResult:
         :mod:`impedance_mil.design.optimized.indices`).
     passivity_index : float or None
         ``min Re(1/H_vw)`` [lbf*s/in], the smallest equivalent damping (None when not evaluated).
+    III_design_model : bool or None
+        III on the first-order delay model with its tolerance (the verdict that reproduces Table 9.5).
+    III_sampled : bool or None
+        III on the exact sampled-data table: stable and ``passivity_margin_sampled_deg`` plus the
+        user's extra tolerance ``>= 0`` (no model tolerance; None when not evaluated).
+        ``III`` is one of the two, or both, as the passivity model chosen says (:data:`PASSIVITY_MODELS`).
     """
 
     fc_hz: float
@@ -201,6 +212,8 @@ class ConstraintResult:
     stable: bool
     passivity_margin_sampled_deg: float | None = None
     passivity_index: float | None = None
+    III_design_model: bool | None = None
+    III_sampled: bool | None = None
 
     @property
     def all_satisfied(self) -> bool:
@@ -227,13 +240,14 @@ class ConstraintResult:
                 f"(at {self.effort_worst_hz:.4g} Hz)"
             )
         if not self.III:
-            why = (
-                "unstable"
-                if not self.stable
-                else (
-                    f"passivity margin {self.passivity_margin_deg:.2f} deg at {self.passivity_worst_hz:.3g} Hz"
+            if not self.stable:
+                why = "unstable"
+            elif self.III_design_model and self.passivity_margin_sampled_deg is not None:
+                why = (
+                    f"passivity margin {self.passivity_margin_sampled_deg:.2f} deg on the sampled-data table"
                 )
-            )
+            else:
+                why = f"passivity margin {self.passivity_margin_deg:.2f} deg at {self.passivity_worst_hz:.3g} Hz"
             out.append(f"constraint III (passivity) violated at fc = {self.fc_hz:g} Hz: {why}")
         return out
 
@@ -354,4 +368,5 @@ def evaluate_constraints(
         passivity_tolerant_margin_deg=pas.tolerant_margin_deg,
         passivity_tolerant_worst_hz=pas.tolerant_worst_hz,
         stable=pas.stable,
+        III_design_model=pas.passive,
     )

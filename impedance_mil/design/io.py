@@ -323,7 +323,7 @@ def _filter(flt: Any) -> FilterSpec:
 
 
 #: Fields of a constraint entry that are verdicts (true/false); the others are numbers or null.
-_VERDICTS = ("I", "II", "III", "stable")
+_VERDICTS = ("I", "II", "III", "stable", "III_design_model", "III_sampled")
 
 #: Fields of a constraint entry that cannot be negative: frequencies, an error norm, a ratio.
 _NONNEGATIVE = (

@@ -68,6 +68,8 @@ VALID = {
     *((f"constraints[0].{k}", v) for k in _SIGNED for v in ("null", "negative", "zero", "1e308")),
     *((f"constraints[0].{k}", v) for k in _NONNEGATIVE for v in ("null", "zero", "1e308")),
     *((f"constraints[0].{k}", "true") for k in ("I", "II", "III", "stable")),
+    # The verdicts of III per model (issue 15, item 2): true or false, null when not evaluated.
+    *((f"constraints[0].{k}", v) for k in ("III_design_model", "III_sampled") for v in ("null", "true")),
     ("constraints[0].fc_hz", "1e308"),
 }
 

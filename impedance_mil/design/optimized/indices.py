@@ -23,7 +23,8 @@ import numpy as np
 
 from ...plant import TableParameters
 from ..adapters import table_model
-from ..constraints import DesignCriteria, controlled_table
+from ...errors import ConfigError
+from ..constraints import PASSIVITY_MODELS, DesignCriteria, controlled_table
 from ..controller import ControllerDesign
 from ..forms import VirtualModel
 from .exchange import log_points
@@ -70,12 +71,23 @@ def with_indices(
     vs: VirtualModel | None,
     criteria: DesignCriteria | None = None,
     warn: bool = True,
+    passivity_model: str = "first-order",
 ) -> ControllerDesign:
-    """``design`` with ``passivity_index`` and ``passivity_margin_sampled_deg`` in its first constraint result.
+    """``design`` with ``passivity_index``, ``passivity_margin_sampled_deg`` and ``III_sampled`` in its
+    first constraint result, whose ``III`` is then the verdict of ``passivity_model``.
 
     Only the standardized form closes ``w -> z_vs`` through the VS model as
     modelled here; other forms (and tracking) are returned unchanged.
+
+    Parameters
+    ----------
+    passivity_model : {"first-order", "sampled", "strictest"}
+        Which verdict ``III`` reports: the first-order delay model with its
+        tolerance (``III_design_model``, reproduces Table 9.5), the sampled-data
+        table (``III_sampled``), or both.
     """
+    if passivity_model not in PASSIVITY_MODELS:
+        raise ConfigError("passivity_model", " | ".join(PASSIVITY_MODELS), passivity_model)
     if design.form != "standardized" or vs is None or not design.constraints:
         return design
     if not params.loop_time > 0:  # an analog table (loop_time 0): there is no sampled-data loop
@@ -90,8 +102,19 @@ def with_indices(
     nyq = 0.5 / params.loop_time
     margin, _ = sampled_margin_deg(design, params, vs, (c.passivity_low_hz, SAMPLED_TOP_FRACTION * nyq))
     index, _ = passivity_index(design, params, vs, (c.passivity_low_hz, nyq))
+    c0 = design.constraints[0]
+    # The sampled model has no delay-model error to credit (its hold and delay are exact): no tolerance
+    # but the user's.  Stability is the design model's (the same poles up to the delay approximation).
+    sampled = bool(c0.stable and margin + c.passivity_extra_tolerance_deg >= 0.0)
+    design_model = c0.III if c0.III_design_model is None else c0.III_design_model
+    verdict = {"first-order": design_model, "sampled": sampled, "strictest": design_model and sampled}
     first = dataclasses.replace(
-        design.constraints[0], passivity_margin_sampled_deg=margin, passivity_index=index
+        c0,
+        passivity_margin_sampled_deg=margin,
+        passivity_index=index,
+        III_design_model=design_model,
+        III_sampled=sampled,
+        III=verdict[passivity_model],
     )
     notes = list(design.warnings)
     if warn and margin < 0 <= design.constraints[0].passivity_tolerant_margin_deg:
