@@ -21,9 +21,9 @@ import dataclasses
 
 import numpy as np
 
+from ...errors import ConfigError
 from ...plant import TableParameters
 from ..adapters import table_model
-from ...errors import ConfigError
 from ..constraints import PASSIVITY_MODELS, DesignCriteria, controlled_table
 from ..controller import ControllerDesign
 from ..forms import VirtualModel
