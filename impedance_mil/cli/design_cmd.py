@@ -33,6 +33,7 @@ import typer
 from ..config import parse_overrides
 from ..design import DesignCriteria, design_controller, save_design, table_model, virtual_model
 from ..design.constraints import PASSIVITY_MODELS
+from ..design.controller import ControllerDesign
 from ..design.feasibility import FcScan, choose_fc, mass_ratio_study, scan_fc
 from ..design.filters import FAMILIES, check_order, check_ripple
 from ..design.forms import FORMS, TableModel, VirtualModel
@@ -44,6 +45,7 @@ from ..errors import ConfigError
 from ..plant import TableParameters
 from ..plant.frf_table import FRFTable, read_frf_table
 from ..plant.lti_table import LTITable
+from ..plant.table_files import TableDefinition
 from ..report.design_plots import plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
 from ..report_config import report_config
@@ -335,7 +337,7 @@ def design(
     written = (
         []
         if plots is None
-        else _write_plots(plots, tm, vm, fcs, scan, form, family, order, criteria, spec, shown)
+        else _write_plots(plots, params, result, vm, fcs, scan, (form, family, order), criteria, spec, shown)
     )
     if output is not None:
         written.append(save_design(result, output))
@@ -454,26 +456,48 @@ def _mass_ratio_rows(
 
 def _write_plots(
     plots: Path,
-    tm: TableModel,
+    params: TableDefinition,
+    result: ControllerDesign,
     vm: VirtualModel | None,
     fcs: list[float],
     scan: FcScan,
-    form: str,
-    family: str,
-    order: int | None,
+    choice: tuple[str, str, int | None],
     criteria: DesignCriteria,
     spec: VSSpec | None,
     units: UnitSystem,
 ) -> list[Path]:
-    """Figure 9.31 rows (the cut-offs, or the feasible range's ends and the design's) and the constraints."""
+    """Figure 9.31 rows (the cut-offs, or the feasible range's ends and the design's) and the constraints.
+
+    ``choice`` is (form, filter family, order); each row is annotated with its passivity margins and
+    index: the design's own constraint result for its cut-off (the JSON's numbers), the same indices
+    computed for the other rows.
+    """
+    form, family, order = choice
+    tm = table_model(params)
     ends = [scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]] if scan.feasible_fc_hz else []
     rows = fcs if len(fcs) > 1 else sorted({*ends, fcs[0]})
+    indices = {float(result.fc_hz): result.constraints[0]}
+    for fc in rows:
+        if float(fc) not in indices:
+            d = design_controller(
+                tm,
+                vm,
+                fc_hz=fc,
+                form=form,
+                family=family,
+                order=order,
+                criteria=criteria,
+                emit_warnings=False,
+            )
+            if isinstance(params, TableParameters):
+                d = with_indices(d, params, vm, criteria, warn=False)
+            indices[float(fc)] = d.constraints[0]
     label = f"{form} controller, {spec.name if spec else 'tracking'}"
+    fig = plot_design_rows(
+        tm, vm, rows, form=form, family=family, order=order, title=label, units=units, indices=indices
+    )
     return [
-        save_figure(
-            plot_design_rows(tm, vm, rows, form=form, family=family, order=order, title=label, units=units),
-            plots / "design_fig931.png",
-        ),
+        save_figure(fig, plots / "design_fig931.png"),
         save_figure(
             plot_constraint_summary(scan.results, criteria, scan.feasible_fc_hz, title=label),
             plots / "design_constraints.png",

@@ -1,10 +1,13 @@
 """Figures of the MIL controller design in the layout of report Figure 9.31.
 
-One row per cut-off frequency, three columns: (left) Bode plot of the VS
+One row per cut-off frequency, four columns: (1) Bode plot of the VS
 impedance and of the controlled table's impedance ``H_zw^st + H_zu^st H_wu``;
-(middle) the ``w -> u`` controller before and after filtering
-(``H_uw^controller``); (right) Nyquist plot of the controlled table's
-force-velocity transfer function (Eq 9-2).  A second figure summarises
+(2) the ``w -> u`` controller before and after filtering
+(``H_uw^controller``); (3) Nyquist plot of the controlled table's
+force-velocity transfer function (Eq 9-2), annotated with the passivity
+margins (first-order delay model and sampled-data table) and the passivity
+index; (4) ``Re(1/H_vw)``, the equivalent damping the controlled table
+presents, whose minimum is the passivity index (issue 15, item 3).  A second figure summarises
 constraints I, II, III against f_c.  Matplotlib with the Agg backend;
 functions return figures, :func:`~impedance_mil.report.motion_plots.save_figure`
 writes them.
@@ -12,7 +15,7 @@ writes them.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import matplotlib
 
@@ -37,6 +40,29 @@ from ..display import UnitSystem, display_unit  # noqa: E402
 #: Frequency axis of the Bode plots [Hz].
 BODE_HZ = np.logspace(-1, np.log10(2000.0), 600)
 
+#: Internal unit of the passivity index (an equivalent damping).
+INDEX_UNIT = "lbf*s/in"
+
+
+def _number(value: float | None, fmt: str) -> str:
+    return "n/a" if value is None or not np.isfinite(value) else format(value, fmt)
+
+
+def passivity_annotation(c: ConstraintResult, units: UnitSystem = UnitSystem.US) -> str:
+    """The passivity lines of a Figure 9.31 row: margins [deg] on both models and the index (in ``units``).
+
+    Numbers are those of the constraint result (the design's JSON), rounded
+    to two decimals.
+    """
+    unit = display_unit(INDEX_UNIT, units)
+    index = None if c.passivity_index is None else c.passivity_index * unit.factor
+    return (
+        f"margin first-order: {_number(c.passivity_margin_deg, '+.2f')} deg "
+        f"(tolerant {_number(c.passivity_tolerant_margin_deg, '+.2f')} deg)\n"
+        f"margin sampled-data: {_number(c.passivity_margin_sampled_deg, '+.2f')} deg\n"
+        f"index min Re(1/H_vw): {_number(index, '+.2f')} {unit.name}"
+    )
+
 
 def _wu_ideal(ideal, vs: VirtualModel, form: str, f: np.ndarray) -> np.ndarray:
     out = ideal.H_uw.frequency_response(f)
@@ -55,8 +81,9 @@ def plot_design_rows(
     order: int | None = None,
     title: str = "",
     units: UnitSystem = UnitSystem.US,
+    indices: Mapping[float, ConstraintResult] | None = None,
 ) -> Figure:
-    """Figure 9.31: impedances, controller response, Nyquist plot (in ``units``); one row per cut-off.
+    """Figure 9.31: impedances, controller response, Nyquist plot, Re(1/H_vw) (in ``units``); one row per cut-off.
 
     Parameters
     ----------
@@ -69,18 +96,24 @@ def plot_design_rows(
         Controller form and filter (form and family: the report's where None).
     title : str
         Figure title.
+    units : UnitSystem
+        Units of the axes and of the annotated index.
+    indices : mapping of float to ConstraintResult, optional
+        Constraint results by cut-off [Hz] whose passivity margins and index
+        (:func:`passivity_annotation`) annotate that row's Nyquist plot.
     """
     form, family = report_design_choices(form, family)
     env = environment(form, vs)
     ideal = ideal_controller(form, table, env)
     f = BODE_HZ
     rows = len(fcs_hz)
-    fig, axes = plt.subplots(rows, 3, figsize=(13, 3.2 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, 4, figsize=(17, 3.2 * rows), squeeze=False)
     H_vs = env.H_zw.frequency_response(f)
     wu_ideal = _wu_ideal(ideal, env, form, f)
     accel, disp = display_unit("inch / second**2", units), display_unit("inch", units)
     vel, force = display_unit("inch / second", units), display_unit("force_pound", units)
     zw, uw, vw = accel.factor / force.factor, disp.factor / force.factor, vel.factor / force.factor
+    damping = display_unit(INDEX_UNIT, units)
     for k, fc in enumerate(fcs_hz):
         paths = filter_controller(ideal, float(fc), family, order)
         ct = controlled_table(table, env, paths.H_uz, paths.H_uw, form)
@@ -110,12 +143,37 @@ def plot_design_rows(
         ax.set_xlabel(f"Re [{vel.name} / {force.name}]")
         ax.set_ylabel(f"Im [{vel.name} / {force.name}]")
         ax.set_title(f"Nyquist of $H_{{vw}}^{{st}}$ (Eq 9-2), $f_c$ = {fc:g} Hz", fontsize=9)
-    for ax in axes[-1, :2]:
+        row = None if indices is None else indices.get(float(fc))
+        if row is not None:
+            ax.text(
+                0.02,
+                0.02,
+                passivity_annotation(row, units),
+                transform=ax.transAxes,
+                fontsize=6.5,
+                va="bottom",
+                bbox={"boxstyle": "round", "fc": "white", "alpha": 0.8},
+            )
+        _damping_panel(axes[k, 3], fn, ct.velocity_response(fn), damping, float(fc))
+    for ax in (*axes[-1, :2], axes[-1, 3]):
         ax.set_xlabel("frequency [Hz]")
     if title:
         fig.suptitle(title)
     fig.tight_layout()
     return fig
+
+
+def _damping_panel(ax, f: np.ndarray, h_vw: np.ndarray, unit, fc: float) -> None:
+    """``Re(1/H_vw)`` [``unit``] against frequency [Hz], its minimum (the passivity index) marked."""
+    d = unit.factor * np.real(1.0 / h_vw)
+    i = int(np.argmin(d))
+    ax.semilogx(f, d, "b-", lw=1)
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.plot(f[i], d[i], "o", color="tab:red" if d[i] < 0 else "tab:green", ms=4)
+    # Symmetric log: the damping spans decades, and its sign is what matters.
+    ax.set_yscale("symlog", linthresh=max(abs(float(d[i])), 1e-9))
+    ax.set_ylabel(f"Re(1/$H_{{vw}}$) [{unit.name}]")
+    ax.set_title(f"equivalent damping, $f_c$ = {fc:g} Hz (min at {f[i]:.3g} Hz)", fontsize=9)
 
 
 def plot_constraint_summary(

@@ -153,6 +153,8 @@ def key_units() -> dict[str, str]:
     units.update({key: field.unit for key, (_, field) in ALTERNATIVES.items()})
     units.update(VS_UNITS)
     units.update({"pga": "g0", "pga_original": "g0", "fc": "hertz"})
+    # The passivity index of a design (issue 15): min Re(1/H_vw), an equivalent damping.
+    units.update({"passivity_index": "force_pound * second / inch"})
     units.update(_VS_LOOP_UNITS)
     return units
 
