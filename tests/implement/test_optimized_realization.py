@@ -129,5 +129,10 @@ def test_cli_reduce_option_records_and_refuses(tmp_path):
     )
     assert sim.exit_code == 0, sim.output
     assert json.loads(sim.stdout)["design_method"] == "optimized"
+    # So do the C and ST generators.
+    for fmt in ("c", "st"):
+        exp = runner.invoke(app, ["export", str(out), "--format", fmt, "-o", str(tmp_path / fmt)])
+        assert exp.exit_code == 0, exp.output
+        assert any((tmp_path / fmt).iterdir())
     bad = runner.invoke(app, [*args, "--reduce", "few"])
     assert isinstance(bad.exception, ConfigError) and "--reduce" in str(bad.exception)

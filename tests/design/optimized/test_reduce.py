@@ -13,6 +13,7 @@ import pytest
 
 from impedance_mil.design.optimized.basis import PoleBasis
 from impedance_mil.design.optimized.certify import StateSpace, path_state_space
+from impedance_mil.design.optimized.realize import realize
 from impedance_mil.design.optimized.reduce import (
     hankel_singular_values,
     reduce_path,
@@ -84,3 +85,26 @@ def test_truncation_is_exact_at_high_frequency_and_bad_input_refused():
         reduce_stable(A, np.ones(2), np.ones(2), 0.0, 1, method="modal")
     with pytest.raises(ConfigError, match="at least 2"):
         reduce_path(StateSpace(np.zeros((2, 2)), np.ones(2), np.ones(2), 0.0), 2, 1)
+
+
+def test_an_order_with_a_pole_above_nyquist_is_refused_and_auto_avoids_it():
+    # Residualization that cuts through a complex pair leaves one fast real pole; the implementation
+    # step needs every pole below the Nyquist frequency, so such an order is refused in one line.
+    basis, xw, xz = _random_path(6)
+    always = lambda *a: {"I": True, "II": True, "III": True, "certified": True}  # noqa: E731
+    path = path_state_space(basis, xw, "w")
+    refused = 0
+    for order in range(2, 18):
+        fast = np.max(np.abs(np.linalg.eigvals(reduce_path(path, 0, order).state_space.A))) / TWO_PI
+        zfast = np.max(
+            np.abs(np.linalg.eigvals(reduce_path(path_state_space(basis, xz, "z"), 2, order).state_space.A))
+        )
+        if max(fast, zfast / TWO_PI) >= 1000.0:
+            refused += 1
+            with pytest.raises(ConfigError, match="Nyquist"):
+                realize(basis, xz, xw, order, 1e-3, (0.25, 15.0), 1000.0, always)
+    assert refused > 0  # the case exists on this path
+    real = realize(basis, xz, xw, "auto", 1e-3, (0.25, 15.0), 1000.0, always)
+    for ss in (real.C_z, real.C_w):
+        assert np.max(np.abs(np.linalg.eigvals(ss.A))) / TWO_PI < 1000.0
+    assert real.record["orders_after"]["H_uw"] < 18
