@@ -13,6 +13,13 @@ Two numbers are added to a design's first constraint result:
   sampled-data table (controller as its Tustin discretization, command held,
   see :mod:`.models`), which contains the half-sample hold that the
   first-order delay model lacks.
+
+With them come the verdicts ``III_design_model`` (the first-order model with
+its delay tolerance, as ``evaluate_constraints`` decides) and ``III_sampled``
+(stable and the sampled margin plus the user's extra tolerance ``>= 0``; the
+sampled model's delay and hold are exact, so no model tolerance), and ``III``
+becomes the one of the chosen ``passivity_model`` (docs/design.md, "The
+design model and the hold").
 """
 
 from __future__ import annotations
