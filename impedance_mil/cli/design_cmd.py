@@ -40,13 +40,13 @@ from ..design.forms import FORMS, TableModel, VirtualModel
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..design.measured import CONTROLLER_MODELS, TOLERANCES, check_loop_time, design_measured_checks
 from ..design.optimized import OptimizationSettings, design_optimized, with_indices
-from ..display import UnitSystem
+from ..display import UnitSystem, display_unit
 from ..errors import ConfigError
 from ..plant import TableParameters
 from ..plant.frf_table import FRFTable, read_frf_table
 from ..plant.lti_table import LTITable
 from ..plant.table_files import TableDefinition
-from ..report.design_plots import plot_constraint_summary, plot_design_rows
+from ..report.design_plots import INDEX_UNIT, plot_constraint_summary, plot_design_rows
 from ..report.motion_plots import save_figure
 from ..report_config import report_config
 from ..specimens import FluidVessel
@@ -310,7 +310,7 @@ def design(
         if json_out:
             print_json(doc, shown)
         else:
-            _print_human(result, [], [], [output] if output is not None else [], measured)
+            _print_human(result, [], [], [output] if output is not None else [], measured, shown)
         return
     kw: dict[str, Any] = dict(form=form, family=family, order=order, criteria=criteria)
     with option_errors(DESIGN_OPTIONS):
@@ -359,7 +359,7 @@ def design(
     if json_out:
         print_json(doc, shown)
         return
-    _print_human(result, reasons, study, written, measured)
+    _print_human(result, reasons, study, written, measured, shown)
 
 
 def _read_frf(path: Path | None, tolerance: str, controller: str, loop_time_s: float) -> FRFTable | None:
@@ -505,7 +505,7 @@ def _write_plots(
     ]
 
 
-def _print_human(result, reasons, study, written, measured=()) -> None:
+def _print_human(result, reasons, study, written, measured=(), units: UnitSystem = UnitSystem.US) -> None:
     console.print(
         f"[bold]{result.form}[/] controller, fc = {result.fc_hz:.4g} Hz, {result.filter.family} "
         f"filters of order {result.filter.order_z} (z) / {result.filter.order_w} (w); "
@@ -536,6 +536,23 @@ def _print_human(result, reasons, study, written, measured=()) -> None:
             f"(margin {row['passivity_margin_deg']:.2f} deg); coupled stable with "
             + ", ".join(
                 f"{c['specimen']}: {c['stable']} (zeta {c['hf_damping_ratio']:.3f})" for c in row["coupled"]
+            )
+        )
+    c0 = result.constraints[0] if result.constraints else None
+    if c0 is not None and c0.III_sampled is not None:
+        damping = display_unit(INDEX_UNIT, units)
+        console.print(
+            f"  III on the design model: {c0.III_design_model}; on the sampled-data table: {c0.III_sampled} "
+            f"(margin {c0.passivity_margin_sampled_deg:.2f} deg); passivity index "
+            f"{c0.passivity_index * damping.factor:.3g} {damping.name}"
+        )
+    reduction = (result.optimization or {}).get("reduction")
+    if reduction and reduction.get("reduced"):
+        before, after, bound = reduction["orders_before"], reduction["orders_after"], reduction["error_bound"]
+        console.print(
+            "  reduced: "
+            + ", ".join(
+                f"{k} {before[k]} -> {after[k]} states (bound {bound[k]:.2g})" for k in ("H_uz", "H_uw")
             )
         )
     for checks in measured:
