@@ -25,7 +25,6 @@ import typer
 
 from ..config import quantity
 from ..display import UnitSystem
-from ..errors import ConfigError
 from ..lab.pretest import pretest
 from ..report_config import report_config
 from ..signals.drive import FILE_FORMATS, check_drive_folder, multisine_metadata, write_drive

@@ -233,7 +233,17 @@ def write_drive(
         folder.mkdir()
     try:
         return _write_drive_files(
-            folder, kind, channel, values, sample_rate_hz, unit, factor, file_format, multisine, motion, provenance
+            folder,
+            kind,
+            channel,
+            values,
+            sample_rate_hz,
+            unit,
+            factor,
+            file_format,
+            multisine,
+            motion,
+            provenance,
         )
     except BaseException:
         if created:  # nothing half-written: the folder this call made goes with its files
