@@ -128,10 +128,9 @@ def _array(values) -> str:
 
 
 def transfer_function_toml(
-    fit: RationalFit,
+    fits: Mapping[str, RationalFit],
     *,
     output: str,
-    input: str,
     units: dict[str, str],
     loop_time: float,
     header: Sequence[str] = (),
@@ -140,10 +139,10 @@ def transfer_function_toml(
 
     Parameters
     ----------
-    fit : RationalFit
-        The model, s in rad/s, internal units.
-    output, input : str
-        Names of the output and input (``"z"``, ``"u"``).
+    fits : mapping of str to RationalFit
+        The model of each input path (``{"u": ..., "w": ...}``), s in rad/s, internal units.
+    output : str
+        Name of the output (``"z"``).
     units : dict
         Unit of each signal named in the polynomials (``{"z": "in/s**2", "u": "in"}``).
     loop_time : float
@@ -158,7 +157,10 @@ def transfer_function_toml(
         + 'delay = "included"\n'
         + f'loop_time = "{loop_time!r} s"\n'
         + f"units = {{ {unit_text} }}\n"
-        + f"H_{output}{input} = {{ num = {_array(fit.num)}, den = {_array(fit.den)} }}\n"
+        + "".join(
+            f"H_{output}{name} = {{ num = {_array(fit.num)}, den = {_array(fit.den)} }}\n"
+            for name, fit in fits.items()
+        )
     )
 
 
