@@ -10,6 +10,8 @@ Sections (TOML, every value with a unit or in the report's unit)::
     [controller]   loop_time, output_delay (samples), precision, feedback, substeps,
                    adc_bits, adc_range, dac_range, io_units (of the exported code)
     [specimen]     kind (vessel, rigid, none or a specimen file), water_depth, article_weight
+    [uncertainty]  ranges of uncertain table parameters (plant.uncertainty): f_oil_hz = "±10 %",
+                   extra_delay = { min = 0, max = "1 loop" } ...
     units          "us" or "si" (top level): the units of what the commands print
 
 ``--lab report`` (the default) is the report's setup: the lab sections of
@@ -37,6 +39,7 @@ from ..plant.lti_table import LTITable
 from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
 from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
+from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .labsensors import Converter, SensorSetup, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
@@ -47,7 +50,7 @@ from .setup import MAX_OUTPUT_DELAY, SafetyLimits
 REPORT_LAB = "report"
 
 #: Sections of a lab file.
-LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen")
+LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen", "uncertainty")
 
 #: Sections of the report's setup file that are not the lab's (read by report_config).
 _EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf", "tuning")
@@ -158,6 +161,8 @@ class LabSetup:
         Where each value came from: ``file``, ``default`` or ``--set``.
     units : UnitSystem
         The units of what the lab's commands print (``units = "us" | "si"``, default us).
+    uncertainty : UncertaintySet or None
+        The ranges of the table's uncertain parameters (``[uncertainty]``; None: none given).
     """
 
     name: str
@@ -169,6 +174,7 @@ class LabSetup:
     specimen: SpecimenSetup
     sources: Mapping[str, str] = field(default_factory=dict)
     units: UnitSystem = UnitSystem.US
+    uncertainty: UncertaintySet | None = None
 
     @property
     def defaults(self) -> tuple[str, ...]:
@@ -238,6 +244,7 @@ class LabSetup:
                 "water_depth": self.specimen.water_depth,
                 "article_weight": self.specimen.article_weight,
             },
+            "uncertainty": None if self.uncertainty is None else self.uncertainty.to_dict(),
             "sources": dict(self.sources),
             "output_units": self.units.value,
         }
@@ -352,7 +359,20 @@ def load_lab(
     sources["sensors"] = sensors.source
     specimen = _specimen(data.get("specimen"), base, where, sources)
     sources["units"] = "file" if units_given else "default"
-    return LabSetup(label, path, params, limits, sensors, controller, specimen, sources, units)
+    uncertainty = _uncertainty(data.get("uncertainty"), params, where)
+    return LabSetup(label, path, params, limits, sensors, controller, specimen, sources, units, uncertainty)
+
+
+def _uncertainty(section: Any, params: TableDefinition, where: str) -> UncertaintySet | None:
+    """The ``[uncertainty]`` ranges (None without the section); an LTI table has no parameters to vary."""
+    if section is None:
+        return None
+    if isinstance(params, LTITable):
+        raise ConfigError(
+            f"{where}uncertainty",
+            "no [uncertainty] with an LTI table (it has no physical parameters to vary)",
+        )
+    return parse_uncertainty(section, params, where)
 
 
 def _has_sections(data: Mapping[str, Any]) -> bool:

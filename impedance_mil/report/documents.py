@@ -108,6 +108,7 @@ _KEY_PATTERNS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"^(Kp(_.*)?|.*_Kp)$"), "volt / psi"),
     (re.compile(r"^pgv_in_s(_.*)?$"), "inch / second"),
     (re.compile(r"^pgd_in(_.*)?$"), "inch"),
+    (re.compile(r"^.*_loops$"), "loops"),  # a delay in controller loops (``extra_delay_loops``)
 )
 
 #: Keys of pure numbers: errors and ratios, counts, seeds, orders, flags as numbers.
