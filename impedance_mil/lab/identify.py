@@ -38,12 +38,14 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..plant import TableParameters
+from ..plant.capacity import TableCapacity
 from ..plant.rational import RationalFit, fit_rational, select_order
 from ..plant.table_files import physical_table_toml, transfer_function_toml
 from ..signals.drive import DriveFile
 from ..signals.frf import FRF
 from ..signals.frf_estimators import synchronous_frf, welch_frf
 from ..signals.frf_two_input import TwoInputFRF, two_input_frf
+from ..signals.limits import TableLimits
 from ..signals.recordings import Recording
 from .identification import IDENTIFIABLE, TableIdentification, identify_table, model_response
 
@@ -254,8 +256,27 @@ class RecordedIdentification:
             paths["w"] = force
         units = {name: SIGNAL_UNITS[name] for name in (*paths, self.output)}
         return transfer_function_toml(
-            paths, output=self.output, units=units, loop_time=self.recording.time_step, header=header
+            paths,
+            output=self.output,
+            units=units,
+            loop_time=self.recording.time_step,
+            header=header,
+            capacity=implied_capacity(self.physical.parameters),
         )
+
+
+def implied_capacity(params: TableParameters) -> TableCapacity:
+    """What the table file's physical parameters imply it can do: its mid-stroke, the valve's
+    no-load velocity, the stall force ``A_p (P_S - P_R)``, the moving mass and the piston area
+    (internal units; :meth:`impedance_mil.signals.limits.TableLimits.from_table`)."""
+    limits = TableLimits.from_table(params)
+    return TableCapacity(
+        stroke=limits.stroke_in,
+        velocity=limits.velocity_in_s,
+        force=limits.force_lbf,
+        mass=params.mass,
+        piston_area=params.piston_area,
+    )
 
 
 def identify_recording(

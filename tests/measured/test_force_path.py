@@ -15,8 +15,9 @@ import numpy as np
 import pytest
 
 from impedance_mil.errors import ConfigError
-from impedance_mil.lab.identify import identify_recording
+from impedance_mil.lab.identify import identify_recording, implied_capacity
 from impedance_mil.plant import TableParameters
+from impedance_mil.plant.table_files import read_table_file
 from impedance_mil.signals.drive import read_drive
 from impedance_mil.signals.frf_two_input import two_input_frf
 from impedance_mil.signals.recordings import ChannelMap, read_recording, write_recording
@@ -145,6 +146,12 @@ def test_cli_writes_a_table_with_both_paths(imil, tmp_path, ms):
     got = json.loads(res.stdout)
     assert got["den"][0] == pytest.approx(1.0) and len(got["num"]) == len(got["den"])  # biproper
     assert imil("table", "poles", "--table", tmp_path / "t.toml", "--json").returncode == 0
+    # Its [capacity] is what the identification's physical table implies (the report's here):
+    # mid-stroke, valve velocity capacity, stall force, mass, piston area (file round trip, 1e-15).
+    table = read_table_file(tmp_path / "t.toml")
+    want = implied_capacity(TableParameters.report_default()).stated()
+    assert table.capacity.stated() == pytest.approx(want, rel=1e-15)
+    assert want["stroke"] == TableParameters.report_default().mid_stroke
 
 
 def test_cli_without_a_w_channel_is_refused_naming_it(imil, tmp_path, ms):
