@@ -358,6 +358,7 @@ def lti_limits(limits: SafetyLimits, table: LTIVirtualTable) -> LTILimits:
         interlock_window=float(limits.interlock_window),
         acceleration=math.inf if limits.acceleration is None else float(limits.acceleration),
         pressure=math.inf if limits.pressure is None else float(limits.pressure),
+        **limits.hf_values(table.loop_time),
     )
     return LTILimits(values, unavailable)
 

@@ -16,6 +16,16 @@ import numpy as np
 from ..errors import ConfigError
 from ..lazy import LazyModule
 from ..specimens.sensors import QUANTITIES, SensorSuite
+from .oscillation import (
+    HF_CUTOFF_HZ,
+    HF_GROWTH,
+    HF_WINDOW_S,
+    HF_WINDOWS,
+    HIGHPASS_OFF,
+    HighPass,
+    default_floor,
+    highpass_coefficients,
+)
 from .structures import FilterArrays, LimitValues, SensorArrays
 
 #: scipy.linalg, imported on first use (issue 16: a command that only reads a configuration does not need it).
@@ -234,6 +244,21 @@ class SafetyLimits:
     pressure : float, optional
         Measured differential-pressure limit |dP| [psi]; default none (the
         actuator-force interlock, A_p |dP|, stands for it).
+    hf_cutoff : float, optional
+        Lower edge [Hz] of the band of the high-frequency instability detector
+        (trip ``hf_oscillation``, :mod:`impedance_mil.lab.oscillation`);
+        default 15 Hz (report Figures 9.33-9.34: the oscillation of the
+        unstable MIL runs is at 15+ Hz); None switches the detector off.
+    hf_window : float
+        rms window of the detector [s]; default 0.2 s (three periods at 15 Hz).
+    hf_growth : float
+        Window-to-window rms ratio counted as growth [-], > 1; default 2.
+    hf_windows : int
+        Consecutive growing windows that trip [-], >= 1; default 3.
+    hf_floor : float, optional
+        rms [in/s**2] of the high-passed acceleration a growth must start
+        from; default ten times the default accelerometer noise (2.59 in/s**2,
+        :func:`~impedance_mil.lab.oscillation.default_floor`).
     """
 
     stroke: float = 3.0
@@ -247,6 +272,11 @@ class SafetyLimits:
     interlock_window: float = 0.25
     acceleration: float | None = None
     pressure: float | None = None
+    hf_cutoff: float | None = HF_CUTOFF_HZ
+    hf_window: float = HF_WINDOW_S
+    hf_growth: float = HF_GROWTH
+    hf_windows: int = HF_WINDOWS
+    hf_floor: float | None = None
 
     def __post_init__(self):
         for key in ("stroke", "velocity", "valve_saturation_time", "divergence", "interlock_window"):
@@ -262,10 +292,19 @@ class SafetyLimits:
             ("command_slew", "rate [V/s]"),
             ("acceleration", "acceleration [in/s**2]"),
             ("pressure", "pressure [psi]"),
+            ("hf_cutoff", "frequency [Hz]"),
+            ("hf_floor", "acceleration [in/s**2]"),
         ):
             value = getattr(self, key)
             if value is not None and not (np.isfinite(value) and value > 0):
                 raise ConfigError(f"limits.{key}", f"a positive {unit}", value)
+        if not (np.isfinite(self.hf_window) and self.hf_window > 0):
+            raise ConfigError("limits.hf_window", "a positive time [s]", self.hf_window)
+        if not (np.isfinite(self.hf_growth) and self.hf_growth > 1):
+            raise ConfigError("limits.hf_growth", "a ratio above 1", self.hf_growth)
+        windows = self.hf_windows
+        if isinstance(windows, bool) or not float(windows).is_integer() or not windows >= 1:
+            raise ConfigError("limits.hf_windows", "a whole number of windows >= 1", windows)
 
     @classmethod
     def disabled(cls) -> SafetyLimits:
@@ -279,6 +318,7 @@ class SafetyLimits:
             valve_duty=1.0,
             valve_current=1e12,
             command_slew=1e15,
+            hf_cutoff=None,
         )
 
     def kernel_values(self, table) -> LimitValues:
@@ -299,7 +339,23 @@ class SafetyLimits:
             interlock_window=float(self.interlock_window),
             acceleration=math.inf if self.acceleration is None else float(self.acceleration),
             pressure=math.inf if self.pressure is None else float(self.pressure),
+            **self.hf_values(table.loop_time),
         )
+
+    def hf_detector(self, loop_time: float) -> HighPass:
+        """The detector's high-pass at the loop time ``loop_time`` [s] (:data:`HIGHPASS_OFF` when off)."""
+        if self.hf_cutoff is None:
+            return HIGHPASS_OFF
+        return highpass_coefficients(float(self.hf_cutoff), float(loop_time), float(self.hf_window))
+
+    def hf_values(self, loop_time: float) -> dict:
+        """The detector's fields of :class:`LimitValues` at the loop time ``loop_time`` [s]."""
+        return {
+            "hf_filter": self.hf_detector(loop_time),
+            "hf_growth": float(self.hf_growth),
+            "hf_windows": int(self.hf_windows),
+            "hf_floor": default_floor() if self.hf_floor is None else float(self.hf_floor),
+        }
 
     def to_dict(self) -> dict:
         return asdict(self)
