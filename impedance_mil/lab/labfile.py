@@ -4,6 +4,7 @@ Sections (TOML, every value with a unit or in the report's unit)::
 
     [table]        file = "my_table.toml" (relative to the lab file), and/or table keys inline
     [limits]       stroke, velocity, acceleration, actuator_force, pressure, valve_command,
+                   hf_cutoff (or "none"), hf_window, hf_growth, hf_windows, hf_floor,
                    valve_current, valve_duty, valve_saturation_time, command_slew,
                    interlock_window, divergence
     [sensors]      clipping = "warn" | "fail", and [sensors.NAME] channels (lab.labsensors)
@@ -41,7 +42,7 @@ from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .labsensors import Converter, SensorSetup, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
 from .lti_plant import lti_limits, virtual_table_for
-from .setup import MAX_OUTPUT_DELAY, SafetyLimits
+from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
 
 #: Name of the shipped lab of the report (its sections live in data/report/config.toml).
 REPORT_LAB = "report"
@@ -66,10 +67,12 @@ LIMIT_FIELDS = {
     "command_slew": Field("volt / second", default=0.0, help="rms slew of the valve command"),
     "interlock_window": Field("second", default=0.0, help="averaging time of the valve interlocks"),
     "divergence": Field("inch", default=0.0, help="displacement declared divergent"),
-    "hf_cutoff": Field("hertz", default=0.0, help="band of the instability detector (\"none\": off)"),
+    "hf_cutoff": Field("hertz", default=0.0, help='band of the instability detector ("none": off)'),
     "hf_window": Field("second", default=0.0, help="rms window of the instability detector"),
     "hf_growth": Field("dimensionless", default=0.0, help="window-to-window rms ratio counted as growth"),
-    "hf_windows": Field("dimensionless", default=0.0, integer=True, help="growing windows in a row that trip"),
+    "hf_windows": Field(
+        "dimensionless", default=0.0, integer=True, help="growing windows in a row that trip"
+    ),
     "hf_floor": Field("inch / second ** 2", default=0.0, help="rms the growth must start from"),
 }
 
@@ -204,7 +207,9 @@ class LabSetup:
     def _hf_limits(self) -> dict[str, Any]:
         """The instability detector's keys as the lab file writes them (``hf_cutoff`` None: off)."""
         off = self.limits.hf_cutoff is None
-        floor = self.limits.hf_values(self.controller.loop_time)["hf_floor"]
+        floor = self.limits.hf_values(self.controller.loop_time, accelerometer_noise(self.sensors.suite))[
+            "hf_floor"
+        ]
         return {
             "hf_cutoff": self.limits.hf_cutoff,
             "hf_window": None if off else self.limits.hf_window,
@@ -216,7 +221,7 @@ class LabSetup:
     def to_dict(self) -> dict[str, Any]:
         """The effective setup with the source of each value (``imil lab show --json``)."""
         if isinstance(self.table, LTITable):
-            limits = lti_limits(self.limits, virtual_table_for(self.table)).values._asdict()
+            limits = lti_limits(self.limits, virtual_table_for(self.table)).values._asdict()  # hf_* below
             command = None  # no valve
         else:
             limits = self.limits.kernel_values(NonlinearTable.from_linear(self.table))._asdict()
@@ -518,7 +523,11 @@ def _limits(
     if "valve_duty" in given and given["valve_duty"] > 1:
         raise ConfigError(f"{where}limits.valve_duty", "a fraction in (0, 1]", given["valve_duty"])
     try:
-        limits = SafetyLimits(stroke=stroke, velocity=velocity, divergence=divergence, **given, **off)
+        keys: dict[str, Any] = {**given, **off}
+        if "hf_windows" in keys:
+            keys["hf_windows"] = int(keys["hf_windows"])  # a whole number (the field is read as one)
+        limits = SafetyLimits(stroke=stroke, velocity=velocity, divergence=divergence, **keys)
+        limits.hf_detector(controller.loop_time)  # a cutoff above Nyquist is refused here, naming the key
     except ConfigError as exc:
         raise ConfigError(f"{where}{exc.key}", exc.expected, exc.got) from None
     return limits, command

@@ -43,11 +43,12 @@ What each part rests on:
   margin of the report's stable runs is measured in ``docs/limits.md``).
   A loop that is unstable more slowly is left to the other interlocks (stroke,
   velocity, ``command_oscillation``, divergence).
-* **The floor** (:data:`HF_FLOOR_NOISE_MULTIPLE` = 10 times the default
-  accelerometer noise, :func:`default_floor`): the growth chain starts from
+* **The floor** (:data:`HF_FLOOR_NOISE_MULTIPLE` = 10 times the
+  accelerometer's noise, :func:`default_floor`): the growth chain starts from
   a window at least an order of magnitude above what the sensor noise alone
-  gives (1 mV rms on the 0.6711 g/V accelerometer of Table 7.1: 0.26 in/s**2),
-  so noise, and a motion's first arrival out of the noise, are not growth.
+  gives (the lab's default, 1 mV rms on the 0.6711 g/V accelerometer of
+  Table 7.1: 0.26 in/s**2; a lab file's noisier accelerometer raises it), so
+  noise, and a motion's first arrival out of the noise, are not growth.
 
 The high-pass is a second-order Butterworth discretized by the bilinear
 transform with the cutoff prewarped (:func:`highpass_coefficients`): two
@@ -82,14 +83,21 @@ HF_FLOOR_NOISE_MULTIPLE = 10.0
 _DEFAULT_NOISE_V = 1.0e-3
 
 
-def default_floor() -> float:
-    """The default ``hf_floor`` [in/s**2]: ten times the default accelerometer noise.
+def default_floor(accel_noise: float | None = None) -> float:
+    """The default ``hf_floor`` [in/s**2]: ten times the accelerometer's noise, at least the default's.
 
-    1 mV rms (the lab's default noise) on the Table 7.1 accelerometer
-    (0.6711 g/V): 0.2593 in/s**2 rms; the floor is 2.593 in/s**2 (0.0067 g).
+    ``accel_noise`` is the accelerometer channel's rms noise [in/s**2]
+    (noise and quantization, :func:`impedance_mil.lab.setup.accelerometer_noise`);
+    None: the lab's default, 1 mV rms on the Table 7.1 accelerometer (0.6711
+    g/V), 0.2593 in/s**2.  A quieter (or noise-free) channel keeps the
+    default's floor, 2.593 in/s**2 (0.0067 g): without it a noise-free model
+    study would count the first 15+ Hz motion of a ground motion out of
+    nothing as growth.
     """
     accel = next(s for s in REPORT_CHANNELS if s.quantity == "table_acceleration")
-    return HF_FLOOR_NOISE_MULTIPLE * _DEFAULT_NOISE_V * abs(accel.scale)
+    default = _DEFAULT_NOISE_V * abs(accel.scale)
+    noise = default if accel_noise is None else max(float(accel_noise), default)
+    return HF_FLOOR_NOISE_MULTIPLE * noise
 
 
 class HighPass(NamedTuple):
@@ -121,7 +129,9 @@ def highpass_coefficients(cutoff_hz: float, loop_time: float, window_s: float) -
     """
     nyquist = 0.5 / loop_time
     if not (math.isfinite(cutoff_hz) and 0 < cutoff_hz < nyquist):
-        raise ConfigError("limits.hf_cutoff", f"a frequency in (0, {nyquist:g}) Hz (below Nyquist)", cutoff_hz)
+        raise ConfigError(
+            "limits.hf_cutoff", f"a frequency in (0, {nyquist:g}) Hz (below Nyquist)", cutoff_hz
+        )
     loops = round(window_s / loop_time)
     if loops < 1:
         raise ConfigError("limits.hf_window", f"at least one loop ({loop_time:g} s)", window_s)

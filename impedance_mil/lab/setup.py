@@ -60,6 +60,18 @@ def ideal_sensors() -> SensorSuite:
     return default_sensors(0.0)
 
 
+def accelerometer_noise(suite: SensorSuite) -> float:
+    """rms noise [in/s**2] of the suite's first table-acceleration channel: its noise and quantization.
+
+    ``sqrt(noise_rms_v^2 + lsb^2 / 12) |scale|`` (uniform quantization error
+    of one LSB); 0 when no channel measures the table acceleration.
+    """
+    for s in suite.sensors:
+        if s.quantity == "table_acceleration":
+            return abs(s.scale) * math.sqrt(s.noise_rms_v**2 + s.lsb_v**2 / 12.0)
+    return 0.0
+
+
 def draw_noise(rng: np.random.Generator, suite: SensorSuite, n_loops: int | None = None):
     """Standard-normal draws for the sensor kernel, float32, ``(n_loops, n_channels)``.
 
@@ -257,7 +269,8 @@ class SafetyLimits:
         Consecutive growing windows that trip [-], >= 1; default 3.
     hf_floor : float, optional
         rms [in/s**2] of the high-passed acceleration a growth must start
-        from; default ten times the default accelerometer noise (2.59 in/s**2,
+        from; default ten times the run's accelerometer noise, at least ten
+        times the default's (2.59 in/s**2,
         :func:`~impedance_mil.lab.oscillation.default_floor`).
     """
 
@@ -321,8 +334,12 @@ class SafetyLimits:
             hf_cutoff=None,
         )
 
-    def kernel_values(self, table) -> LimitValues:
-        """The thresholds for ``table`` (a NonlinearTable: it sets the default force, current and slew)."""
+    def kernel_values(self, table, accel_noise: float | None = None) -> LimitValues:
+        """The thresholds for ``table`` (a NonlinearTable: it sets the default force, current and slew).
+
+        ``accel_noise`` [in/s**2 rms] is the run's accelerometer noise
+        (:func:`accelerometer_noise`), which sets the default ``hf_floor``.
+        """
         force = 0.95 * table.max_force if self.actuator_force is None else self.actuator_force
         current = table.spool_limit if self.valve_current is None else self.valve_current
         full_scale = 2.0 * np.pi * OSCILLATION_HZ * table.valve_command_limit / np.sqrt(2.0)
@@ -339,7 +356,7 @@ class SafetyLimits:
             interlock_window=float(self.interlock_window),
             acceleration=math.inf if self.acceleration is None else float(self.acceleration),
             pressure=math.inf if self.pressure is None else float(self.pressure),
-            **self.hf_values(table.loop_time),
+            **self.hf_values(table.loop_time, accel_noise),
         )
 
     def hf_detector(self, loop_time: float) -> HighPass:
@@ -348,13 +365,17 @@ class SafetyLimits:
             return HIGHPASS_OFF
         return highpass_coefficients(float(self.hf_cutoff), float(loop_time), float(self.hf_window))
 
-    def hf_values(self, loop_time: float) -> dict:
-        """The detector's fields of :class:`LimitValues` at the loop time ``loop_time`` [s]."""
+    def hf_values(self, loop_time: float, accel_noise: float | None = None) -> dict:
+        """The detector's fields of :class:`LimitValues` at the loop time ``loop_time`` [s].
+
+        ``accel_noise`` [in/s**2 rms]: the accelerometer's noise, for the
+        default floor (:func:`~impedance_mil.lab.oscillation.default_floor`).
+        """
         return {
             "hf_filter": self.hf_detector(loop_time),
             "hf_growth": float(self.hf_growth),
             "hf_windows": int(self.hf_windows),
-            "hf_floor": default_floor() if self.hf_floor is None else float(self.hf_floor),
+            "hf_floor": default_floor(accel_noise) if self.hf_floor is None else float(self.hf_floor),
         }
 
     def to_dict(self) -> dict:

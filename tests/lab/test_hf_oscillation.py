@@ -19,16 +19,18 @@ import numpy as np
 import pytest
 
 from impedance_mil.campaign.claims import _stability
+from impedance_mil.errors import ConfigError
+from impedance_mil.lab.experiments import run_mil, run_tracking
 from impedance_mil.lab.kernels import hf_window_history
+from impedance_mil.lab.labfile import load_lab
 from impedance_mil.lab.loop import simulate
 from impedance_mil.lab.lti_plant import virtual_table_for
-from impedance_mil.lab.experiments import run_mil, run_tracking
 from impedance_mil.lab.oscillation import default_floor, growth_statistic, highpass_coefficients
 from impedance_mil.lab.results import load_run, save_run
 from impedance_mil.lab.runfile import trip_summary
-from impedance_mil.lab.setup import DEFAULT_NOISE_V, SafetyLimits
+from impedance_mil.lab.setup import DEFAULT_NOISE_V, SafetyLimits, accelerometer_noise, default_sensors
 from impedance_mil.lab.trips import TripCause
-from impedance_mil.plant import LinearTable
+from impedance_mil.plant import LinearTable, default_table_path
 from impedance_mil.plant.nonlinear import NonlinearTable
 from impedance_mil.signals import builtin_motion
 from impedance_mil.specimens import FluidVessel
@@ -133,7 +135,9 @@ def test_the_default_mil_run_does_not_trip(table):
     # SD2 with the 36 in vessel (the bench case, El Centro x2 at 0.6 g, 26.9 s): the 15+ Hz
     # window rms stays below 3.6 in/s**2; measured statistic 0.55 against 2.
     motion = builtin_motion("elcentro").time_scaled(2.0).scaled_to_pga(0.6)
-    run = run_mil(report_parameters(), presets.get("SD2"), motion, specimen=FluidVessel(water_depth_in=36.0)).run
+    run = run_mil(
+        report_parameters(), presets.get("SD2"), motion, specimen=FluidVessel(water_depth_in=36.0)
+    ).run
     assert run.trip is None
     v = SafetyLimits().kernel_values(table)
     rms, _ = hf_window_history(v, run.z)
@@ -180,3 +184,58 @@ def test_highpass_refuses_a_cutoff_above_nyquist():
 def test_bad_detector_settings_are_refused_naming_the_key(key, value):
     with pytest.raises(ValueError, match=f"limits.{key}"):
         SafetyLimits(**{key: value})
+
+
+def _lab(tmp_path, text: str):
+    path = tmp_path / "lab.toml"
+    path.write_text(f'[table]\nfile = "{default_table_path()}"\n' + text)
+    return path
+
+
+def test_lab_file_sets_the_detector_or_switches_it_off(tmp_path):
+    lab = load_lab(
+        _lab(
+            tmp_path,
+            '[limits]\nhf_cutoff = "20 Hz"\nhf_window = "150 ms"\nhf_growth = 3\nhf_windows = 4\n'
+            'hf_floor = "0.05 m/s**2"\n',
+        )
+    )
+    assert (lab.limits.hf_cutoff, lab.limits.hf_window, lab.limits.hf_growth, lab.limits.hf_windows) == (
+        pytest.approx(20.0),
+        pytest.approx(0.15),
+        3.0,
+        4,
+    )
+    assert lab.limits.hf_floor == pytest.approx(0.05 / 0.0254, rel=1e-12)
+    shown = lab.to_dict()["limits"]
+    assert shown["hf_cutoff"] == pytest.approx(20.0) and shown["hf_floor"] == pytest.approx(0.05 / 0.0254)
+    off = load_lab(_lab(tmp_path, '[limits]\nhf_cutoff = "none"\n'))
+    assert off.limits.hf_cutoff is None and off.to_dict()["limits"]["hf_floor"] is None
+    assert load_lab("report").to_dict()["limits"]["hf_cutoff"] == 15.0
+
+
+@pytest.mark.parametrize(
+    "text, key",
+    [
+        ('hf_cutoff = "1500 Hz"', "limits.hf_cutoff"),  # above the 1000 Hz Nyquist frequency
+        ("hf_growth = 0.5", "limits.hf_growth"),
+        ('hf_cutoff = "off"', "limits.hf_cutoff"),
+    ],
+)
+def test_lab_file_refuses_a_bad_detector_setting_naming_the_key(tmp_path, text, key):
+    with pytest.raises(ConfigError, match=key):
+        load_lab(_lab(tmp_path, f"[limits]\n{text}\n"))
+
+
+def test_the_floor_follows_a_noisier_accelerometer(table):
+    # 10 mV rms on the 0.6711 g/V accelerometer (with its 16-bit quantization, LSB 20 V / 2**16):
+    # ten times sqrt(noise^2 + LSB^2/12) x scale; a quieter channel keeps the default floor.
+    noisy = default_sensors(noise_rms_v=0.01)
+    lsb = 20.0 / 2**16
+    expected = 10 * 0.6711 * 386.08858 * math.sqrt(0.01**2 + lsb**2 / 12)
+    assert accelerometer_noise(noisy) * 10 == pytest.approx(expected, rel=1e-6)
+    assert SafetyLimits().kernel_values(table, accelerometer_noise(noisy)).hf_floor == pytest.approx(
+        expected, rel=1e-6
+    )
+    quiet = accelerometer_noise(default_sensors(noise_rms_v=0.0))
+    assert SafetyLimits().kernel_values(table, quiet).hf_floor == default_floor()

@@ -20,7 +20,14 @@ from .conftest import report_parameters
 #: lab.kernels.TRIP_NAMES): old files must keep loading.
 FILE_NAMES = ("", "stroke", "velocity", "actuator_force", "valve_saturation", "nan", "divergence")
 #: Causes added since (issues 18, 12, 17): new codes after the old ones, so the old codes keep their meaning.
-NEW_NAMES = ("valve_duty", "valve_current", "command_oscillation", "acceleration", "pressure", "hf_oscillation")
+NEW_NAMES = (
+    "valve_duty",
+    "valve_current",
+    "command_oscillation",
+    "acceleration",
+    "pressure",
+    "hf_oscillation",
+)
 
 
 @pytest.fixture(scope="module")
