@@ -108,6 +108,9 @@ _KEY_PATTERNS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"^(Kp(_.*)?|.*_Kp)$"), "volt / psi"),
     (re.compile(r"^pgv_in_s(_.*)?$"), "inch / second"),
     (re.compile(r"^pgd_in(_.*)?$"), "inch"),
+    (re.compile(r"^.*_loops$"), "loops"),  # a delay in controller loops (``extra_delay_loops``)
+    # min Re 1/H_vw of a controlled table: an equivalent damping (design/optimized/indices.py)
+    (re.compile(r"^passivity_index$"), "force_pound * second / inch"),
 )
 
 #: Keys of pure numbers: errors and ratios, counts, seeds, orders, flags as numbers.
@@ -153,8 +156,6 @@ def key_units() -> dict[str, str]:
     units.update({key: field.unit for key, (_, field) in ALTERNATIVES.items()})
     units.update(VS_UNITS)
     units.update({"pga": "g0", "pga_original": "g0", "fc": "hertz"})
-    # The passivity index of a design (issue 15): min Re(1/H_vw), an equivalent damping.
-    units.update({"passivity_index": "force_pound * second / inch"})
     units.update(_VS_LOOP_UNITS)
     return units
 
