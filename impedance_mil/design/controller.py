@@ -114,6 +114,9 @@ class ControllerDesign:
     optimization : mapping or None
         The solver's report of an optimized design (:mod:`impedance_mil.design.optimized`);
         None for a filter design.
+    amplitude_certificate : mapping or None
+        Constraint III of an LR/FP design over a range of isolator amplitudes
+        (:mod:`impedance_mil.design.optimized.amplitudes`), when computed.
     """
 
     form: str
@@ -131,6 +134,7 @@ class ControllerDesign:
     vs: Mapping[str, Any] | None = None
     software_version: str = __version__
     optimization: Mapping[str, Any] | None = None
+    amplitude_certificate: Mapping[str, Any] | None = None
 
     def constraint_at(self, fc_hz: float) -> ConstraintResult:
         """The constraint result for a cut-off [Hz] (NotEvaluatedError, a KeyError, when not evaluated)."""
@@ -161,6 +165,11 @@ class ControllerDesign:
                 {}
                 if self.optimization is None
                 else {"method": "optimized", "optimization": self.optimization}
+            ),
+            **(
+                {}
+                if self.amplitude_certificate is None
+                else {"passivity_amplitude_certificate": self.amplitude_certificate}
             ),
         }
 
