@@ -30,14 +30,13 @@ from typing import Any
 
 import typer
 
-from ..config import parse_overrides
+from ..config import parse_overrides, quantity
 from ..design import DesignCriteria, design_controller, save_design, table_model, virtual_model
 from ..design.feasibility import FcScan, choose_fc, mass_ratio_study, scan_fc
 from ..design.filters import FAMILIES, check_order, check_ripple
 from ..design.forms import FORMS, TableModel, VirtualModel
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..design.measured import CONTROLLER_MODELS, TOLERANCES, check_loop_time, design_measured_checks
-from ..config import quantity
 from ..design.optimized import OptimizationSettings, design_optimized, with_indices
 from ..design.optimized.amplitudes import (
     HYSTERETIC_KINDS,
@@ -274,10 +273,14 @@ def design(
         request = MapRequest(params, vs, sets_vs, lin, amplitudes, fcs[0], criteria, settings, from_report)
         run_map(request, map_x or "", map_y, output, json_out, shown)
         return
-    if amp_range is not None and (spec is None or spec.vs.kind not in HYSTERETIC_KINDS or form != "standardized"):
+    if amp_range is not None and (
+        spec is None or spec.vs.kind not in HYSTERETIC_KINDS or form != "standardized"
+    ):
         raise ConfigError("--amplitude-range", "an LR or FP VS (--vs) and the standardized form")
     if amp_range is not None and not isinstance(params, TableParameters):
-        raise ConfigError("--amplitude-range", "a physical table (the certificate uses its sampled-data model)")
+        raise ConfigError(
+            "--amplitude-range", "a physical table (the certificate uses its sampled-data model)"
+        )
     vm = virtual_model(spec.vs, spec.name, **lin) if spec is not None else None
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
@@ -368,7 +371,9 @@ def _parse_amplitude_range(text: str | None) -> tuple[float, float] | None:
         return None
     parts = text.split(":")
     if len(parts) != 2:
-        raise ConfigError("--amplitude-range", "LO:HI, two amplitudes in in or with a unit ('6 mm:100 mm')", text)
+        raise ConfigError(
+            "--amplitude-range", "LO:HI, two amplitudes in in or with a unit ('6 mm:100 mm')", text
+        )
     lo, hi = (quantity("--amplitude-range", p.strip(), "inch", "positive") for p in parts)
     with option_errors({"amplitude_range": "--amplitude-range"}):
         return check_amplitude_range((lo, hi))

@@ -57,7 +57,7 @@ from ..controller import ControllerDesign
 from ..linearize import GRID_HZ, harmonic_cycle, interpolate_stiffness
 from .box_margin import worst_margin_deg
 from .exchange import log_points
-from .models import RationalTarget, robust_set
+from .models import TABLE_MODELS, RationalTarget, robust_set
 
 #: Amplitude nodes per decade of the first pass.
 NODES_PER_DECADE = 8
@@ -193,7 +193,9 @@ class SectorBound:
             "k_initial_lbf_per_in": float(self.k_initial),
             "hysteretic_force_bound_lbf": float(self.force_bound_lbf),
             "damping_lbf_s_per_in": float(self.damping_lbf_s_per_in),
-            "envelope_certified_from_in": None if self.envelope_from_in is None else float(self.envelope_from_in),
+            "envelope_certified_from_in": None
+            if self.envelope_from_in is None
+            else float(self.envelope_from_in),
             "envelope_margin_deg": float(self.envelope_margin_deg),
             "envelope_tried_up_to_in": ENVELOPE_MAX_IN,
             "meaning": "incremental stiffness of the isolator force in [k_post, k_initial], hysteretic force "
@@ -387,6 +389,45 @@ def _cell_margins(loops: list[_Loop], nodes, tables) -> dict[str, tuple[np.ndarr
     return out
 
 
+def _refined(loops: list[_Loop], vs, nodes: list[float], delta: float):
+    """Nodes [in] and cell margins after splitting the verdict model's failing cells with a passing end."""
+    tables = [describing_table(vs, a) for a in nodes]
+    verdict = loops[0].name
+    for rnd in range(SPLIT_ROUNDS + 1):
+        res = _cell_margins(loops, nodes, tables)
+        cell_min = res[verdict][0].min(axis=1)
+        point = res[verdict][1].min(axis=1)
+        split = [
+            i
+            for i in range(len(nodes) - 1)
+            if cell_min[i] < delta and (point[i] >= delta or point[i + 1] >= delta)
+        ]
+        if not split or rnd == SPLIT_ROUNDS:
+            break
+        for i in reversed(split):
+            mid = float(np.sqrt(nodes[i] * nodes[i + 1]))
+            nodes.insert(i + 1, mid)
+            tables.insert(i + 1, describing_table(vs, mid))
+    return nodes, res
+
+
+def _model_margin(loop: _Loop, margins: tuple[np.ndarray, np.ndarray], nodes: list[float], delta: float):
+    """The :class:`ModelMargin` of one table model from its (cell, frequency) and (node, frequency) margins."""
+    cell, point = margins
+    i, j = (int(v) for v in np.unravel_index(int(np.argmin(cell)), cell.shape))
+    k, n = (int(v) for v in np.unravel_index(int(np.argmin(point)), point.shape))
+    return ModelMargin(
+        loop.name,
+        float(cell[i, j]),
+        (nodes[i], nodes[i + 1]),
+        float(loop.f_hz[j]),
+        bool(cell[i, j] >= delta),
+        float(point[k, n]),
+        float(nodes[k]),
+        float(loop.f_hz[n]),
+    )
+
+
 def _largest_run(cells: list[CellMargin]) -> tuple[float, float] | None:
     best, start = None, None
     for i, c in enumerate([*cells, None]):
@@ -464,54 +505,31 @@ def amplitude_certificate(
         raise ConfigError("form", "the standardized form for an amplitude certificate", design.form)
     if not params.loop_time > 0:
         raise ConfigError("table", "a sampled table (loop_time > 0) for an amplitude certificate")
+    if not table_models or any(m not in TABLE_MODELS for m in table_models):
+        raise ConfigError("table_models", "some of " + ", ".join(TABLE_MODELS), table_models)
+    for key, value in (("nodes_per_decade", nodes_per_decade), ("points_per_decade", points_per_decade)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise ConfigError(key, "a positive whole number", value)
     c = criteria or DesignCriteria()
     delta = float(
         margin_deg if margin_deg is not None else (design.optimization or {}).get("margin_deg", 0.0)
     )
     band = (c.passivity_low_hz, 0.5 / params.loop_time)
     loops = _loops(design, params, vs, band, points_per_decade, table_models)
-    nodes = _initial_nodes(lo, hi, nodes_per_decade)
-    tables = [describing_table(vs, a) for a in nodes]
+    nodes, res = _refined(loops, vs, _initial_nodes(lo, hi, nodes_per_decade), delta)
     verdict = loops[0].name
-    for _ in range(SPLIT_ROUNDS + 1):
-        res = _cell_margins(loops, nodes, tables)
-        cell_min = res[verdict][0].min(axis=1)
-        point = res[verdict][1].min(axis=1)
-        split = [
-            i
-            for i in range(len(nodes) - 1)
-            if cell_min[i] < delta and (point[i] >= delta or point[i + 1] >= delta)
-        ]
-        if not split or _ == SPLIT_ROUNDS:
-            break
-        for i in reversed(split):
-            mid = float(np.sqrt(nodes[i] * nodes[i + 1]))
-            nodes.insert(i + 1, mid)
-            tables.insert(i + 1, describing_table(vs, mid))
     f = loops[0].f_hz
     stable = bool(design.constraints[0].stable) if design.constraints else True
     cells = []
     for i in range(len(nodes) - 1):
         j = int(np.argmin(res[verdict][0][i]))
-        m = float(res[verdict][0][i, j])
-        cells.append(CellMargin((nodes[i], nodes[i + 1]), m, float(f[j]), bool(stable and m >= delta)))
-    models = []
-    for loop in loops:
-        m, pt = res[loop.name]
-        i, j = np.unravel_index(int(np.argmin(m)), m.shape)
-        k, n = np.unravel_index(int(np.argmin(pt)), pt.shape)
-        models.append(
-            ModelMargin(
-                loop.name,
-                float(m[i, j]),
-                (nodes[i], nodes[i + 1]),
-                float(loop.f_hz[j]),
-                bool(m[i, j] >= delta),
-                float(pt[k, n]),
-                float(nodes[k]),
-                float(loop.f_hz[n]),
+        worst_cell = float(res[verdict][0][i, j])
+        cells.append(
+            CellMargin(
+                (nodes[i], nodes[i + 1]), worst_cell, float(f[j]), bool(stable and worst_cell >= delta)
             )
         )
+    models = [_model_margin(loop, res[loop.name], nodes, delta) for loop in loops]
     worst = models[0]
     k_post, k_init, force, damping = sector_of(vs)
     env_from, env_margin = _envelope(loops[0], vs, delta)
@@ -547,7 +565,9 @@ def summary(cert: dict) -> str:
         return f"III certified over amplitudes {lo:g}-{hi:g} in ({cert['verdict_model']} model; {where})"
     run = cert["certified_range_in"]
     part = f"certified only over {run[0]:.3g}-{run[1]:.3g} in" if run else "certified over no sub-range"
-    return f"III not certified over amplitudes {lo:g}-{hi:g} in: {part} ({cert['verdict_model']} model; {where})"
+    return (
+        f"III not certified over amplitudes {lo:g}-{hi:g} in: {part} ({cert['verdict_model']} model; {where})"
+    )
 
 
 def with_amplitude_certificate(design: ControllerDesign, cert: AmplitudeCertificate) -> ControllerDesign:

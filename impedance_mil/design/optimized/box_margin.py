@@ -88,9 +88,7 @@ def worst_margin_deg(a, beta, p, x0, x1, y0, y1) -> np.ndarray:
     >>> float(worst_margin_deg(0.0, 1.0, 0.0, 1.0, 1.0, -1.0, 1.0))  # 1/N on Re N = 1, |Im N| <= 1
     45.0
     """
-    a, beta, p, x0, x1, y0, y1 = np.broadcast_arrays(
-        *(np.asarray(v) for v in (a, beta, p, x0, x1, y0, y1))
-    )
+    a, beta, p, x0, x1, y0, y1 = np.broadcast_arrays(*(np.asarray(v) for v in (a, beta, p, x0, x1, y0, y1)))
     a = a.astype(complex)
     beta = beta.astype(complex)
     width = (x1 - x0).astype(float)

@@ -48,7 +48,9 @@ def _vs(name):
 
 
 def _filter(name):
-    return design_controller(table_model(PARAMS), virtual_model(_vs(name), name), fc_hz=FC_HZ, emit_warnings=False)
+    return design_controller(
+        table_model(PARAMS), virtual_model(_vs(name), name), fc_hz=FC_HZ, emit_warnings=False
+    )
 
 
 def _optimized(name):
@@ -70,7 +72,9 @@ def _dense_margins(design, name, amplitudes, per_decade=1000) -> np.ndarray:
     f = log_points((0.01, 1000.0), per_decade)
     out = []
     for a in amplitudes:
-        ct = controlled_table(tm, virtual_model(_vs(name), name, amplitude_in=a), design.H_uz, design.H_uw, "standardized")
+        ct = controlled_table(
+            tm, virtual_model(_vs(name), name, amplitude_in=a), design.H_uz, design.H_uw, "standardized"
+        )
         out.append(90.0 - np.abs(np.degrees(np.angle(ct.velocity_response(f)))))
     return np.array(out)
 
@@ -117,7 +121,9 @@ def test_moebius_bound_is_a_lower_bound_on_random_rectangles():
         brute = np.min(90.0 - np.abs(np.degrees(np.angle(a + beta / (X + 1j * Y - p)))))
         assert closed <= brute + 1e-9
         gaps.append(brute - closed)
-    assert np.median(gaps) < 1e-3  # a 201-point mesh misses the exact minimum by little (measured median 1e-5)
+    assert (
+        np.median(gaps) < 1e-3
+    )  # a 201-point mesh misses the exact minimum by little (measured median 1e-5)
 
 
 # --------------------------------------------------------------------------- the model's bounds
@@ -156,7 +162,10 @@ def test_enclosure_holds_the_describing_function_between_nodes(name, freqs):
         for frac in (0.3, 0.7) if name == "LR2" else (0.5,):
             a = nodes[i] ** (1 - frac) * nodes[i + 1] ** frac
             N = np.array([harmonic_cycle(vs, a, fk).stiffness for fk in f])
-            assert np.all((x0[i] <= N.real) & (N.real <= x1[i]) & (y0[i] <= N.imag) & (N.imag <= y1[i])), (a, N)
+            assert np.all((x0[i] <= N.real) & (N.real <= x1[i]) & (y0[i] <= N.imag) & (N.imag <= y1[i])), (
+                a,
+                N,
+            )
 
 
 # --------------------------------------------------------------------------- designs
@@ -188,7 +197,9 @@ def test_lr2_optimized_certified_over_its_robust_range(lr2_optimized):
     d = lr2_optimized
     cert = amplitude_certificate(d, PARAMS, _vs("LR2"), RANGE)
     assert cert.certified and cert.certified_range_in == RANGE and cert.stable
-    assert cert.margin_deg >= 0.0 and cert.binding_hz == pytest.approx(1000.0)  # measured 8.2e-5 deg at Nyquist
+    assert cert.margin_deg >= 0.0 and cert.binding_hz == pytest.approx(
+        1000.0
+    )  # measured 8.2e-5 deg at Nyquist
     dense = _check_against_dense(cert, d, "LR2", np.geomspace(*RANGE, 6))
     assert dense.min() >= 0.0
     # The sampled-data model is evaluated too; its margin is the solver's round-off below 0 at the nodes.
@@ -260,7 +271,9 @@ def test_cli_refuses_bad_amplitude_range(args, expected):
 def test_cli_refusal_is_one_line_with_exit_status_2(tmp_path):
     out = tmp_path / "d.json"
     args = ["design", "--vs", "LR2", "--amplitude-range", "2:1", "-o", str(out)]
-    r = subprocess.run([sys.executable, "-m", "impedance_mil", *args], capture_output=True, text=True, timeout=120)
+    r = subprocess.run(
+        [sys.executable, "-m", "impedance_mil", *args], capture_output=True, text=True, timeout=120
+    )
     assert r.returncode == 2 and r.stdout == ""
     assert len(r.stderr.strip().splitlines()) == 1 and "--amplitude-range" in r.stderr
     assert not out.exists()
