@@ -40,6 +40,7 @@ from ..design.measured import CONTROLLER_MODELS, TOLERANCES, check_loop_time, de
 from ..design.optimized import OptimizationSettings, design_optimized, with_indices
 from ..design.optimized.amplitudes import (
     HYSTERETIC_KINDS,
+    VS_MODELS,
     amplitude_certificate,
     check_amplitude_range,
     summary,
@@ -300,7 +301,7 @@ def design(
         result = _optimized(params, spec, lin, vm, fcs[0], criteria, settings, amplitudes)
         if amp_range is None and spec.vs.kind in HYSTERETIC_KINDS:  # the range the robust set covers
             amp_range = (min(amplitudes + [amplitude]), max(amplitudes + [amplitude]))
-        result = _with_certificate(result, params, spec, amp_range, criteria)
+        result = _with_certificate(result, params, spec, amp_range, criteria, linearization)
         measured = _measured_checks(result, measured_frf, None, vm, frf_kw)
         if output is not None:
             save_design(result, output)
@@ -334,7 +335,7 @@ def design(
         )
     if isinstance(params, TableParameters):  # the sampled-data indices need the physical table
         result = with_indices(result, params, vm, criteria, warn=False)
-        result = _with_certificate(result, params, spec, amp_range, criteria)
+        result = _with_certificate(result, params, spec, amp_range, criteria, linearization)
     measured = _measured_checks(result, measured_frf, tm, vm, frf_kw)
     study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []
     written = (
@@ -379,11 +380,13 @@ def _parse_amplitude_range(text: str | None) -> tuple[float, float] | None:
         return check_amplitude_range((lo, hi))
 
 
-def _with_certificate(result, params, spec: VSSpec | None, amp_range, criteria):
-    """``result`` with the amplitude certificate of III over ``amp_range`` [in] (unchanged without a range)."""
+def _with_certificate(result, params, spec: VSSpec | None, amp_range, criteria, linearization: str):
+    """``result`` with the amplitude certificate of III over ``amp_range`` [in] (unchanged without a range),
+    on the ``--linearization`` model (the DF for ``open-fh``: the real isolator is hysteretic)."""
     if amp_range is None or spec is None:
         return result
-    cert = amplitude_certificate(result, params, spec.vs, amp_range, criteria=criteria)
+    model = linearization if linearization in VS_MODELS else "describing-function"
+    cert = amplitude_certificate(result, params, spec.vs, amp_range, criteria=criteria, vs_model=model)
     return with_amplitude_certificate(result, cert)
 
 

@@ -54,7 +54,7 @@ from ...plant import TableParameters
 from ...units import TWO_PI
 from ..constraints import DesignCriteria
 from ..controller import ControllerDesign
-from ..linearize import GRID_HZ, harmonic_cycle, interpolate_stiffness
+from ..linearize import GRID_HZ, equivalent_linearization, harmonic_cycle, interpolate_stiffness
 from .box_margin import worst_margin_deg
 from .exchange import log_points
 from .models import TABLE_MODELS, RationalTarget, robust_set
@@ -77,9 +77,13 @@ ENVELOPE_MAX_IN = 1000.0
 #: VS types whose describing function this module knows (their sector is stated from their parameters).
 HYSTERETIC_KINDS = ("LR", "FP")
 
+#: VS models the certificate can use (see :func:`node_stiffness`).
+VS_MODELS = ("describing-function", "equivalent-viscous")
+
 #: The method, as stated in the certificate.
 METHOD = (
-    "DF at log-spaced amplitude nodes; per cell a rectangle of N(A, f) (end values widened by the "
+    "VS stiffness N(A, f) (DF, or k_eff + j w c_eq) at log-spaced amplitude nodes; per cell a rectangle of "
+    "N(A, f) (end values widened by the "
     "chord-deviation estimate); exact worst margin of the Moebius image a + beta/(N - m w^2) over each "
     "rectangle (box_margin.py) on a dense frequency grid; failing cells split"
 )
@@ -226,6 +230,8 @@ class AmplitudeCertificate:
         The frequency [Hz] where it is.
     verdict_model : str
         Table model of the verdict (``"first-order"``: the design model of constraint III).
+    vs_model : str
+        ``describing-function`` or ``equivalent-viscous``.
     models : tuple of ModelMargin
         Every table model evaluated.
     cells : tuple of CellMargin
@@ -249,6 +255,7 @@ class AmplitudeCertificate:
     binding_amplitude_in: tuple[float, float]
     binding_hz: float
     verdict_model: str
+    vs_model: str
     models: tuple[ModelMargin, ...]
     cells: tuple[CellMargin, ...]
     sector: SectorBound
@@ -270,7 +277,7 @@ class AmplitudeCertificate:
             "binding_amplitude_in": [float(x) for x in self.binding_amplitude_in],
             "binding_hz": float(self.binding_hz),
             "verdict_model": self.verdict_model,
-            "vs_model": "describing-function",
+            "vs_model": self.vs_model,
             "stable": bool(self.stable),
             "models": [m.to_dict() for m in self.models],
             "cells": [c.to_dict() for c in self.cells],
@@ -324,6 +331,40 @@ def describing_table(vs, amplitude_in: float) -> np.ndarray:
 
 
 @dataclass(frozen=True)
+class NodeStiffness:
+    """The VS model's complex stiffness at one amplitude node.
+
+    Attributes
+    ----------
+    amplitude_in : float
+        The node [in].
+    table : ndarray of complex or None
+        The DF on :data:`..linearize.GRID_HZ` [lbf/in] (``describing-function``).
+    k_eff, c_eq : float
+        Effective stiffness [lbf/in] and equivalent viscous damping [lbf*s/in] (``equivalent-viscous``).
+    """
+
+    amplitude_in: float
+    table: np.ndarray | None = None
+    k_eff: float = 0.0
+    c_eq: float = 0.0
+
+    def at(self, f_hz: np.ndarray) -> np.ndarray:
+        """``N`` [lbf/in] at ``f_hz`` [Hz]: the DF as the design interpolates it, or ``k_eff + j w c_eq``."""
+        if self.table is not None:
+            return interpolate_stiffness(GRID_HZ, self.table, f_hz)
+        return self.k_eff + 1j * TWO_PI * np.asarray(f_hz, dtype=float) * self.c_eq
+
+
+def node_stiffness(vs, amplitude_in: float, vs_model: str) -> NodeStiffness:
+    """:class:`NodeStiffness` of ``vs`` at ``amplitude_in`` [in] for ``vs_model`` (one of :data:`VS_MODELS`)."""
+    if vs_model == "describing-function":
+        return NodeStiffness(float(amplitude_in), table=describing_table(vs, amplitude_in))
+    eq = equivalent_linearization(vs, amplitude_in, "equivalent-viscous")
+    return NodeStiffness(float(amplitude_in), k_eff=eq.k_eff, c_eq=eq.c_eq)
+
+
+@dataclass(frozen=True)
 class _Loop:
     """``H_vw = a + b Z`` of one table model on the frequency grid (internal)."""
 
@@ -350,9 +391,11 @@ def _loops(design: ControllerDesign, params: TableParameters, vs, band_hz, per_d
     return out
 
 
-def _enclosures(nodes: np.ndarray, tables: np.ndarray, f_hz: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Per cell and frequency the rectangle ``(x0, x1, y0, y1)`` [lbf/in] enclosing ``N(A, f)`` (module docstring)."""
-    N = np.array([interpolate_stiffness(GRID_HZ, t, f_hz) for t in tables])  # (nodes, f)
+def _enclosures(nodes: np.ndarray, N: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Per cell and frequency the rectangle ``(x0, x1, y0, y1)`` [lbf/in] enclosing ``N(A, f)`` (module docstring).
+
+    ``N`` is ``(node, frequency)``: the stiffness at the nodes ``nodes`` [in].
+    """
     u = np.log(nodes)
     h = np.diff(u)
     slope = np.diff(N, axis=0) / h[:, None]
@@ -377,21 +420,20 @@ def _initial_nodes(lo: float, hi: float, per_decade: int) -> list[float]:
     return [lo, *inner, hi]
 
 
-def _cell_margins(loops: list[_Loop], nodes, tables) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """Model -> (worst margin per cell [deg], its frequency index), and the node (point) margins."""
+def _cell_margins(loops: list[_Loop], nodes, stiffness) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Model -> worst margin [deg] per (cell, frequency) and per (node, frequency) (no enclosure)."""
     out = {}
     for loop in loops:
-        box = _enclosures(np.asarray(nodes), np.asarray(tables), loop.f_hz)
-        m = loop.margins(*box)
-        pts = np.array([interpolate_stiffness(GRID_HZ, t, loop.f_hz) for t in tables])
+        pts = np.array([n.at(loop.f_hz) for n in stiffness])  # (node, f)
+        m = loop.margins(*_enclosures(np.asarray(nodes), pts))
         point = loop.margins(pts.real, pts.real, pts.imag, pts.imag)
         out[loop.name] = (m, point)
     return out
 
 
-def _refined(loops: list[_Loop], vs, nodes: list[float], delta: float):
+def _refined(loops: list[_Loop], vs, vs_model: str, nodes: list[float], delta: float):
     """Nodes [in] and cell margins after splitting the verdict model's failing cells with a passing end."""
-    tables = [describing_table(vs, a) for a in nodes]
+    tables = [node_stiffness(vs, a, vs_model) for a in nodes]
     verdict = loops[0].name
     for rnd in range(SPLIT_ROUNDS + 1):
         res = _cell_margins(loops, nodes, tables)
@@ -407,7 +449,7 @@ def _refined(loops: list[_Loop], vs, nodes: list[float], delta: float):
         for i in reversed(split):
             mid = float(np.sqrt(nodes[i] * nodes[i + 1]))
             nodes.insert(i + 1, mid)
-            tables.insert(i + 1, describing_table(vs, mid))
+            tables.insert(i + 1, node_stiffness(vs, mid, vs_model))
     return nodes, res
 
 
@@ -464,6 +506,7 @@ def amplitude_certificate(
     margin_deg: float | None = None,
     criteria: DesignCriteria | None = None,
     table_models: tuple[str, ...] = ("first-order", "sampled"),
+    vs_model: str = "describing-function",
     nodes_per_decade: int = NODES_PER_DECADE,
     points_per_decade: int = POINTS_PER_DECADE,
 ) -> AmplitudeCertificate:
@@ -485,6 +528,10 @@ def amplitude_certificate(
         Its ``passivity_low_hz`` starts the band; the band ends at the Nyquist frequency.
     table_models : tuple of str
         Table models evaluated; the first is the verdict model.
+    vs_model : str
+        ``describing-function`` (the DF as the constraints use it) or
+        ``equivalent-viscous`` (``s**2/(m s**2 + c_eq(A) s + k_eff(A))``, the rational model
+        of the optimized design's grid-free certificate).
     nodes_per_decade, points_per_decade : int
         Initial amplitude nodes and frequency points per decade.
 
@@ -505,6 +552,8 @@ def amplitude_certificate(
         raise ConfigError("form", "the standardized form for an amplitude certificate", design.form)
     if not params.loop_time > 0:
         raise ConfigError("table", "a sampled table (loop_time > 0) for an amplitude certificate")
+    if vs_model not in VS_MODELS:
+        raise ConfigError("vs_model", " or ".join(VS_MODELS), vs_model)
     if not table_models or any(m not in TABLE_MODELS for m in table_models):
         raise ConfigError("table_models", "some of " + ", ".join(TABLE_MODELS), table_models)
     for key, value in (("nodes_per_decade", nodes_per_decade), ("points_per_decade", points_per_decade)):
@@ -516,7 +565,7 @@ def amplitude_certificate(
     )
     band = (c.passivity_low_hz, 0.5 / params.loop_time)
     loops = _loops(design, params, vs, band, points_per_decade, table_models)
-    nodes, res = _refined(loops, vs, _initial_nodes(lo, hi, nodes_per_decade), delta)
+    nodes, res = _refined(loops, vs, vs_model, _initial_nodes(lo, hi, nodes_per_decade), delta)
     verdict = loops[0].name
     f = loops[0].f_hz
     stable = bool(design.constraints[0].stable) if design.constraints else True
@@ -543,6 +592,7 @@ def amplitude_certificate(
         binding_amplitude_in=worst.amplitude_in,
         binding_hz=worst.worst_hz,
         verdict_model=verdict,
+        vs_model=vs_model,
         models=tuple(models),
         cells=tuple(cells),
         sector=SectorBound(k_post, k_init, force, damping, env_from, env_margin),

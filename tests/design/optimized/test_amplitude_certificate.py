@@ -96,7 +96,8 @@ def test_moebius_bound_equals_brute_force_at_one_frequency():
     vs = _vs("LR2")
     (loop,) = ac._loops(_filter("LR2"), PARAMS, vs, (9.0, 10.0), 400, ("first-order",))
     nodes = [0.75, 1.0, 1.334, 1.778]
-    box = ac._enclosures(np.array(nodes), np.array([ac.describing_table(vs, a) for a in nodes]), loop.f_hz)
+    N = np.array([ac.node_stiffness(vs, a, "describing-function").at(loop.f_hz) for a in nodes])
+    box = ac._enclosures(np.array(nodes), N)
     k = int(np.argmin(np.abs(loop.f_hz - 9.44)))
     x0, x1, y0, y1 = (b[1, k] for b in box)
     closed = float(worst_margin_deg(loop.a[k], loop.beta[k], loop.pole[k], x0, x1, y0, y1))
@@ -157,7 +158,8 @@ def test_enclosure_holds_the_describing_function_between_nodes(name, freqs):
     vs = _vs(name)
     nodes = ac._initial_nodes(*RANGE, ac.NODES_PER_DECADE)
     f = np.array(freqs)
-    x0, x1, y0, y1 = ac._enclosures(np.array(nodes), np.array([ac.describing_table(vs, a) for a in nodes]), f)
+    at_nodes = np.array([ac.node_stiffness(vs, a, "describing-function").at(f) for a in nodes])
+    x0, x1, y0, y1 = ac._enclosures(np.array(nodes), at_nodes)
     for i in range(len(nodes) - 1):
         for frac in (0.3, 0.7) if name == "LR2" else (0.5,):
             a = nodes[i] ** (1 - frac) * nodes[i + 1] ** frac
@@ -205,6 +207,25 @@ def test_lr2_optimized_certified_over_its_robust_range(lr2_optimized):
     # The sampled-data model is evaluated too; its margin is the solver's round-off below 0 at the nodes.
     sampled = next(m for m in cert.models if m.model == "sampled")
     assert sampled.margin_deg <= sampled.node_margin_deg < 0.0
+
+
+def test_equivalent_viscous_model_over_the_range(lr2_optimized):
+    """The rational model s^2/(m s^2 + c_eq(A) s + k_eff(A)) (the grid-free certificate's at 1 in):
+    a lower bound of the dense check by the design's own path, and certified where that check passes."""
+    d = lr2_optimized
+    cert = amplitude_certificate(
+        d, PARAMS, _vs("LR2"), RANGE, vs_model="equivalent-viscous", table_models=("first-order",)
+    )
+    assert cert.vs_model == "equivalent-viscous" and cert.to_dict()["vs_model"] == "equivalent-viscous"
+    tm = table_model(PARAMS)
+    f = log_points((0.01, 1000.0), 1000)
+    for a in (0.3, 1.0, 2.5):
+        vm = virtual_model(_vs("LR2"), "LR2", linearization="equivalent-viscous", amplitude_in=a)
+        ct = controlled_table(tm, vm, d.H_uz, d.H_uw, "standardized")
+        dense = np.min(90.0 - np.abs(np.degrees(np.angle(ct.velocity_response(f)))))
+        cell = next(c for c in cert.cells if c.amplitude_in[0] <= a <= c.amplitude_in[1])
+        assert cell.margin_deg <= dense + 1e-9
+        assert not cell.certified or dense >= 0.0
 
 
 def test_fp2_optimized_certified_over_its_robust_range(fp2_optimized):
