@@ -9,7 +9,8 @@ margin of the controlled table for *every* ``A`` in ``[A_min, A_max]``:
    controller do not depend on the VS), so ``H_vw = a + beta/(N - p)`` is a
    Moebius function of the complex stiffness ``N``
    (:mod:`.box_margin`).
-2. The amplitude range is cut into cells at log-spaced nodes; the DF is
+2. The amplitude range is cut into cells at log-spaced nodes; the DF (or,
+   for ``vs_model="equivalent-viscous"``, ``k_eff + j w c_eq``) is
    computed at the nodes, and over a cell ``N(A, w)`` is enclosed in a
    rectangle: the box of the two end values, widened by a bound on the
    chord's deviation (``kappa/8`` times the largest second divided
@@ -36,7 +37,8 @@ for any motion: the isolator's incremental stiffness lies in
 the bound alone, the DF of the hysteretic part at any amplitude ``A' >= A``
 lies in the half-disc ``|N_h| <= 4 F_h/(pi A)``, ``Im N_h >= 0`` (the first
 Fourier coefficient of a signal bounded by ``F_h`` is at most ``4 F_h/pi``;
-the loop dissipates).  :attr:`SectorBound.envelope_from_in` is the smallest
+``Im N_h >= 0`` says the loop dissipates, which a test checks on the computed
+DFs rather than proves).  :attr:`SectorBound.envelope_from_in` is the smallest
 amplitude from which that envelope (as its bounding rectangle) certifies III:
 a proof for the DF model at all larger amplitudes that needs no DF at all.
 """
