@@ -39,6 +39,8 @@ from .modelkinds import (
     run_table_poles,
 )
 from .params import Param
+from .robustkind import KIND as ROBUST_KIND
+from .robustkind import run_robust_mil
 from .selftest import SELFTEST_DEFAULTS, SELFTEST_PARAMS, run_selftest
 
 #: Signature of a run function.
@@ -130,6 +132,14 @@ KINDS: Mapping[str, Kind] = MappingProxyType(
             MIL_DEFAULTS,
             "MIL with a virtual isolation system (Section 9)",
             resolve_motion,
+        ),
+        ROBUST_KIND: Kind(
+            ROBUST_KIND,
+            run_robust_mil,
+            {},
+            {},
+            "the user's MIL test on one table of a lab's uncertainty set, nominal design "
+            "(imil simulate --robust; no campaign-file parameters)",
         ),
     }
 )

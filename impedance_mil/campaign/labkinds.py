@@ -234,7 +234,7 @@ def _controller(config: dict[str, Any]) -> ControllerChoice:
     return ControllerChoice(float(ctrl["fc_hz"]), Feedback.parse(ctrl["feedback"]), ctrl["precision"])
 
 
-def _controlled_metrics(
+def controlled_metrics(
     test: TrackingTest, result: ControlledRun, source: str, out_path: Path
 ) -> dict[str, Any]:
     run = result.run
@@ -252,7 +252,7 @@ def run_tracking_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     used: dict[str, Any] = {}
     lab = _lab(config, used)
     test = TrackingTest(table_parameters(config), _specimen(config), motion, _controller(config), lab, used)
-    return _controlled_metrics(test, test.run(), source, out_path)
+    return controlled_metrics(test, test.run(), source, out_path)
 
 
 def run_mil_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
@@ -272,7 +272,7 @@ def run_mil_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
         vs_spec=VSSpec(config["vs"]["preset"], vs),
     )
     result = test.run()
-    metrics = _controlled_metrics(test, result, source, out_path)
+    metrics = controlled_metrics(test, result, source, out_path)
     metrics["m_vs_over_m_st"] = vs.m_vs / params.mass
     metrics.update(design_passivity(result.design, params, vs))
     return metrics

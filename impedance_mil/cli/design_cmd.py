@@ -46,8 +46,11 @@ from ..design.optimized.amplitudes import (
     summary,
     with_amplitude_certificate,
 )
+from ..design.robust import DEFAULT_LHS_SAMPLES, robust_margins
 from ..display import UnitSystem
 from ..errors import ConfigError
+from ..lab.labfile import LabSetup, load_lab
+from ..lab.robust import article_impedance, lab_article, require_uncertainty
 from ..plant import TableParameters
 from ..plant.frf_table import FRFTable, read_frf_table
 from ..plant.lti_table import LTITable
@@ -207,6 +210,18 @@ def design(
         "--frf-controller",
         help="Controller response on the FRF: continuous (as designed) | tustin (as implemented).",
     ),
+    robust: bool = typer.Option(
+        False,
+        "--robust",
+        help="Worst-case passivity and coupled-stability margins over the lab's [uncertainty] set "
+        "(--lab FILE), with the lab's article.",
+    ),
+    robust_samples: int = typer.Option(
+        DEFAULT_LHS_SAMPLES,
+        "--robust-samples",
+        help="--robust: Latin-hypercube points besides the box's vertices.",
+    ),
+    robust_seed: int = typer.Option(0, "--robust-seed", help="--robust: seed of the Latin-hypercube sample."),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
     plots: Path | None = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
     output: Path | None = typer.Option(
@@ -257,6 +272,7 @@ def design(
         criteria = DesignCriteria(**{k: v for k, v in criteria_given.items() if v is not None})
     ratios = _parse_list("--mass-ratios", mass_ratios)
     params = table_definition(table, sets, lab)  # physical, or an LTI table ([model])
+    setup = _robust_lab(robust, lab, table, sets, robust_samples, robust_seed, mapping or method != "filter")
     tm = table_model(params)
     measured_frf = _read_frf(frf, frf_tolerance, frf_controller, tm.loop_time_s)
     frf_kw: dict[str, Any] = dict(tolerance=frf_tolerance, controller_model=frf_controller, criteria=criteria)
@@ -336,6 +352,20 @@ def design(
     if isinstance(params, TableParameters):  # the sampled-data indices need the physical table
         result = with_indices(result, params, vm, criteria, warn=False)
         result = _with_certificate(result, params, spec, amp_range, criteria, linearization)
+    robustness = None
+    if setup is not None and isinstance(params, TableParameters) and setup.uncertainty is not None:
+        article = lab_article(setup)
+        robustness = robust_margins(
+            result,
+            params,
+            vm,
+            setup.uncertainty,
+            article_impedance(article),
+            article.label,
+            samples=robust_samples,
+            seed=robust_seed,
+            criteria=criteria,
+        )
     measured = _measured_checks(result, measured_frf, tm, vm, frf_kw)
     study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []
     written = (
@@ -360,10 +390,37 @@ def design(
         doc["mass_ratio_study"] = study
     if measured:
         doc["measured"] = _measured_doc(frf, measured)
+    if robustness is not None and setup is not None and setup.uncertainty is not None:
+        doc["robust"] = {**robustness.to_dict(), "uncertainty": setup.uncertainty.to_dict()}
     if json_out:
         print_json(doc, shown)
         return
     _print_human(result, reasons, study, written, measured)
+    if robustness is not None:
+        console.print("robust: " + robustness.line(), markup=False, highlight=False)
+
+
+def _robust_lab(
+    robust: bool,
+    lab: str | None,
+    table: Path | None,
+    sets: list[str] | None,
+    samples: int,
+    seed: int,
+    other_method: bool,
+) -> LabSetup | None:
+    """The lab of ``--robust`` (None without it), its ``[uncertainty]`` required; the options checked."""
+    if isinstance(samples, bool) or samples < 0:
+        raise ConfigError("--robust-samples", "a non-negative whole number of sample points", samples)
+    if seed < 0:
+        raise ConfigError("--robust-seed", "a non-negative integer", seed)
+    if not robust:
+        return None
+    if other_method:
+        raise ConfigError("--robust", "the filter method (without --map-x/--map-y)")
+    setup = load_lab(lab, table=table, overrides=parse_overrides(sets)) if lab or table else None
+    require_uncertainty(None if setup is None else setup.uncertainty, "--robust")
+    return setup
 
 
 def _parse_amplitude_range(text: str | None) -> tuple[float, float] | None:

@@ -25,10 +25,9 @@ import typer
 
 from ..config import quantity
 from ..display import UnitSystem
-from ..errors import ConfigError
 from ..lab.pretest import pretest
 from ..report_config import report_config
-from ..signals.drive import FILE_FORMATS, multisine_metadata, write_drive
+from ..signals.drive import FILE_FORMATS, check_drive_folder, multisine_metadata, write_drive
 from ..signals.multisine import REPORT_PERIOD_S, design_multisine
 from ..signals.sources import scaled_motion
 from ..virtual.files import resolve
@@ -58,14 +57,13 @@ TableOpt = typer.Option(
 )
 SetOpt = typer.Option(None, "--set", help="Table value KEY=VALUE (repeatable).")
 FormatOpt = typer.Option("csv", "--format", help="Data-file layout: " + ", ".join(FILE_FORMATS) + ".")
-DirOpt = typer.Option(..., "-o", "--output", help="Folder to write the drive into (it must exist).")
+DirOpt = typer.Option(..., "-o", "--output", help="Folder to write the drive into (created if new).")
 OverwriteOpt = typer.Option(False, "--overwrite", help="Replace existing drive files of this kind.")
 JsonOpt = typer.Option(False, "--json", help="Print the metadata as JSON.")
 
 
 def _folder(path: Path) -> Path:
-    if not path.is_dir():
-        raise ConfigError("-o", "an existing folder", str(path))
+    check_drive_folder(path)
     return path
 
 

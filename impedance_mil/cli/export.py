@@ -130,7 +130,9 @@ def export(
             f", VS {chosen.name} ({chosen.vs.kind})" if vs_obj is not None else ""
         )
         limits = (
-            command_limits(design.table, stroke=stroke, max_rate=max_rate) if fmt in ("c", "st") else None
+            command_limits(design.table, stroke=stroke, max_rate=max_rate, capacity=design.capacity)
+            if fmt in ("c", "st")
+            else None
         )
         files = render(
             controller, fmt, precision, prefix, vs=vs_obj, design_summary=summary, limits=limits, io_units=io

@@ -9,8 +9,15 @@ table file of ``--model`` (``physical``: a table file ``--table`` reads;
 ``tf``: a transfer-function table in issue 13's layout).  ``--plot`` draws
 data against both fits (magnitude, phase, coherence).
 
+Several recordings of the same multisine (``imil identify BARE.csv MASS.csv
+--drive ... --channel w=load_cell[kN]``), each with the article force ``w``,
+whose ``w`` differ (the bare table and the table with a mass): the command path
+``y/u`` and the force path ``y/w`` are separated line by line, and the
+transfer-function table holds both (``H_zu`` and ``H_zw``: what a MIL design
+needs).
+
 The known parts of the table (gains, loop time, area, mass, stroke) and the
-starting values come from ``--table`` (``--lab`` once issue 12 lands).
+starting values come from ``--table`` or ``--lab``.
 
 Exit status: 0; 2 for bad input (one line naming the file, channel or key; nothing written).
 """
@@ -87,6 +94,15 @@ def _print(doc: dict, model: str) -> None:
         p, r = phys[key], tf[key]
         if p is not None:
             say(f"  {key:22s} physical {p:.4f}   rational {r:.4f}")
+    force = doc.get("force_path")
+    if force is not None:
+        say(
+            f"force path {force['path']} from {len(doc['recordings'])} tests (input condition number "
+            f"<= {force['condition_max']:.3g}): order {force['order']}, fit error {force['fit_error']:.4f}"
+        )
+        for pole in force["poles"]:
+            kind = f"pair, damping {pole['damping']:.4f}" if pole["complex_pair"] else "real"
+            say(f"  pole {pole['frequency_hz']:10.4f} Hz ({kind})")
     for path in (doc["file"], doc.get("plot")):
         if path:
             say(f"wrote {path}")
@@ -94,8 +110,11 @@ def _print(doc: dict, model: str) -> None:
 
 
 def identify(
-    recording: Path = typer.Argument(
-        ..., help="Recording of the drive and the response (.csv, .h5, .mat, .tdms)."
+    recordings: list[Path] = typer.Argument(
+        ...,
+        metavar="RECORDING...",
+        help="Recording of the drive and the response (.csv, .h5, .mat, .tdms); several recordings "
+        "of one multisine with different article forces w separate the force path.",
     ),
     drive: Path | None = typer.Option(
         None, "--drive", help="Metadata of the multisine played (DIR/multisine.json)."
@@ -150,18 +169,21 @@ def identify(
         f"the drive file {drive}" if drv is not None else f"the table's loop time ({params.loop_time:g} s)"
     )
     cmap = channel_map(channels, channels_file, rate)
-    rec = read_lab_recording(
-        recording,
-        cmap,
-        expected_rate_hz=expected,
-        rate_source=source,
-        sensors=setup.sensors.suite,
-        allow_clipped=allow_clipped,
-    )
-    if drv is not None:
-        check_recording(drv, str(drive), rec.path, rec.sample_rate_hz, rec.channels.get("u"))
+    recs = []
+    for recording in recordings:
+        rec = read_lab_recording(
+            recording,
+            cmap,
+            expected_rate_hz=expected,
+            rate_source=source,
+            sensors=setup.sensors.suite,
+            allow_clipped=allow_clipped,
+        )
+        if drv is not None:
+            check_recording(drv, str(drive), rec.path, rec.sample_rate_hz, rec.channels.get("u"))
+        recs.append(rec)
     ident = identify_recording(
-        rec,
+        recs,
         params,
         output=response,
         drive=drv,
@@ -174,7 +196,7 @@ def identify(
         f_range_hz=(low, high),
     )
     doc = ident.summary(model)
-    atomic_write_text(out, ident.table_text(model, recording.name))
+    atomic_write_text(out, ident.table_text(model, ", ".join(path.name for path in recordings)))
     if plot is not None:
         save_identification_plot(ident, plot)
     doc = {**doc, "file": str(out), "plot": None if plot is None else str(plot)}

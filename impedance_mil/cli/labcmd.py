@@ -58,6 +58,14 @@ def show(
             text = "none" if value is None else (f"{value:.6g}" if isinstance(value, float) else str(value))
             tail = f" {unit}" if unit not in ("", "1") and value is not None else ""
             _say(f"  {key:22s} {text}{tail}   ({sources.get(f'{section}.{key}', 'derived')})")
+    for key, rng in (view["uncertainty"] or {}).items():
+        end = "" if "min" in rng else "_loops"
+        unit = human_name(unit_of.get(f"uncertainty.{key}.min{end}", ""))
+        tail = f" {unit}" if unit not in ("", "1") else ""
+        _say(
+            f"[uncertainty] {key:18s} {rng['min' + end]:.6g} to {rng['max' + end]:.6g}{tail} "
+            f"(nominal {rng['nominal' + end]:.6g})"
+        )
     _say(f"[sensors] clipping {doc['sensors']['clipping']} ({sources['sensors']})")
     for ch in view["sensors"]["channels"]:
         low, high = ch["range"]

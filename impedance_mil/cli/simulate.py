@@ -27,13 +27,17 @@ terminal, in the JSON and in the file); 2 for bad input or a refused motion
 
 from __future__ import annotations
 
+import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import typer
 
+from ..campaign.engine import ProgressEvent
+from ..campaign.robust import run_robust_campaign
 from ..config import parse_overrides
+from ..design.robust import RobustMargins
 from ..display import UnitSystem, display_unit, format_value
 from ..errors import ConfigError
 from ..lab.choices import Choices, frf_test, mil_test, tracking_test
@@ -49,6 +53,7 @@ from ..lab.experiments import ControlledRun
 from ..lab.first_run import COMPILING_NOTICE, kernels_need_compiling
 from ..lab.pretest import Pretest
 from ..lab.results import RUN_FILE_SUFFIXES
+from ..lab.robust import require_uncertainty, test_robustness
 from ..lab.runfile import MODEL_LOOP, trip_text, write_run_file
 from ..report.runpage import write_run_page
 from ..report_config import report_config
@@ -171,6 +176,7 @@ class Outcome:
     document: dict = field(default_factory=dict)
     written: Written = field(default_factory=Written)
     elapsed_s: float = 0.0
+    robust: RobustMargins | None = None
 
 
 def check(outcome: Outcome, *, force: bool, required: tuple[str, ...] = REQUIRED_CONSTRAINTS) -> None:
@@ -182,6 +188,7 @@ def check(outcome: Outcome, *, force: bool, required: tuple[str, ...] = REQUIRED
     outcome.warnings += test.check_design(required, force)
     if isinstance(test, MilTest):
         outcome.warnings += list(test.vs_spec.notes)
+    outcome.robust = test_robustness(test, seed=test.lab.seed)  # None: the lab has no [uncertainty]
 
 
 def perform(
@@ -205,6 +212,8 @@ def perform(
         outcome.elapsed_s = time.perf_counter() - start
         outcome.result = result
         doc = test.summary(result, outcome.pre, tuple(outcome.warnings))
+        if outcome.robust is not None:
+            doc["pretest"]["robust"] = outcome.robust.to_dict()
         arrays = test.arrays(result)
         step(f"writing {out}")
         outcome.written.paths.append(write_run_file(result.run, out, doc, arrays))
@@ -248,6 +257,8 @@ def print_outcome(outcome: Outcome, units: UnitSystem = UnitSystem.US) -> None:
             f"predicted VS basemat motion against the interlocks: {checks}: "
             f"{'fits' if pre.basemat.ok else 'EXCEEDS'}"
         )
+    if outcome.robust is not None:
+        say("robust stability: " + outcome.robust.line())
     for line in design_lines(outcome.result.design):
         say(line)
     if doc["aborted"]:
@@ -361,34 +372,120 @@ def simulate(
     require: str = RequireOpt,
     overwrite: bool = OverwriteOpt,
     units: str | None = UnitsOpt,
+    robust: int | None = typer.Option(
+        None,
+        "--robust",
+        help="Run N labs sampled (Latin hypercube, --seed) from the lab's [uncertainty] set with the "
+        "nominal design, as a campaign; report the fraction unstable and save the worst run to -o.",
+    ),
 ) -> None:
     """MIL run: the table imitates a virtual isolation system under a ground motion (Section 9)."""
-    test = mil_test(
-        choices(
-            vs=vs,
-            table=table,
-            lab=lab,
-            sets=sets,
-            specimen=specimen,
-            water_depth=water_depth,
-            specimen_weight=specimen_weight,
-            sets_vs=sets_vs,
-            motion=motion,
-            motion_units=motion_units,
-            time_scale=time_scale,
-            pga_g=pga,
-            duration=duration,
-            fc_hz=fc,
-            design=design,
-            feedback=feedback,
-            precision=precision,
-            seed=seed,
-        )
+    chosen = choices(
+        vs=vs,
+        table=table,
+        lab=lab,
+        sets=sets,
+        specimen=specimen,
+        water_depth=water_depth,
+        specimen_weight=specimen_weight,
+        sets_vs=sets_vs,
+        motion=motion,
+        motion_units=motion_units,
+        time_scale=time_scale,
+        pga_g=pga,
+        duration=duration,
+        fc_hz=fc,
+        design=design,
+        feedback=feedback,
+        precision=precision,
+        seed=seed,
     )
+    test = mil_test(chosen)
     shown = output_units(units, lab, table)
+    if robust is not None:
+        run_robust(
+            chosen,
+            test,
+            robust,
+            output,
+            report,
+            force=force,
+            overwrite=overwrite,
+            as_json=as_json,
+            require=require,
+            units=shown,
+        )
+        return
     run_command(
         test, output, report, force=force, overwrite=overwrite, as_json=as_json, require=require, units=shown
     )
+
+
+def run_robust(
+    chosen: Choices,
+    test: MilTest,
+    n: int,
+    output: Path,
+    report: Path | None,
+    *,
+    force: bool,
+    overwrite: bool,
+    as_json: bool,
+    require: str,
+    units: UnitSystem,
+) -> None:
+    """``simulate --robust N``: the pre-test check, then N sampled labs as a campaign; the worst run to ``output``."""
+    if n < 1:
+        raise ConfigError("--robust", "a positive number of sampled runs", n)
+    if report is not None:
+        raise ConfigError(
+            "--report", "no --report with --robust (imil report draws the worst run's file, -o)"
+        )
+    require_uncertainty(test.lab.uncertainty, "--robust")
+    out = output_path("-o", output, overwrite, RUN_FILE_SUFFIXES)
+    outcome = Outcome(test)
+    notice_compiling()
+    check(outcome, force=force, required=parse_required(require))
+    warn(outcome.warnings)
+
+    def progress(event: ProgressEvent) -> None:
+        if not as_json:
+            err_console.print(
+                f"imil: robust run {event.done}/{event.total}: {event.record.status}", markup=False
+            )
+
+    try:
+        with tempfile.TemporaryDirectory(prefix="imil-robust-") as folder:
+            campaign = run_robust_campaign(
+                chosen, test, n, test.lab.seed, Path(folder), out, on_progress=progress
+            )
+    except KeyboardInterrupt:
+        err_console.print("imil: interrupted (nothing written)", markup=False)
+        raise typer.Exit(EXIT_INTERRUPTED) from None
+    pre = outcome.pre.to_dict() if outcome.pre is not None else {}
+    if outcome.robust is not None:
+        pre["robust"] = outcome.robust.to_dict()
+    doc = {**test.describe(), "lab": test.lab.name, "pretest": pre, "warnings": outcome.warnings}
+    doc["robust"] = campaign.to_dict()
+    if as_json:
+        print_json(doc, units)
+        return
+    say = lambda text: console.print(text, markup=False)  # noqa: E731
+    if outcome.robust is not None:
+        say("robust stability: " + outcome.robust.line())
+    say(
+        f"robust campaign: {len(campaign.runs)} labs sampled from the uncertainty set (seed {campaign.seed}), "
+        f"nominal design: {campaign.unstable_fraction:.0%} unstable; by cause: "
+        + ", ".join(f"{k} {v}" for k, v in campaign.causes().items())
+    )
+    for run in campaign.runs:
+        if run.status == "failed":
+            say(f"  {run.run_id}: failed: {run.error}")
+    if campaign.worst is not None:
+        trip = f"tripped ({campaign.worst.cause.label})" if campaign.worst.unstable else "completed"
+        say(f"  worst: {trip} at {', '.join(f'{k} = {v:.4g}' for k, v in campaign.worst.point.items())}")
+    if campaign.worst_file is not None:
+        say(f"wrote {campaign.worst_file}")
 
 
 def track(

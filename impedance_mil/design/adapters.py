@@ -33,9 +33,9 @@ def table_model(params: TableParameters | LTITable, delay: str = "first-order") 
     Returns
     -------
     TableModel
-        For an LTI table with no ``parameters`` (there are no physical ones:
-        a design file from it holds none, and the generated code's limits
-        then need the physical table).
+        For an LTI table with no ``parameters`` (there are no physical ones)
+        and its stated ``capacity``, from which the generated code's limits
+        come (:func:`impedance_mil.implement.safety.command_limits`).
 
     Raises
     ------
@@ -43,7 +43,9 @@ def table_model(params: TableParameters | LTITable, delay: str = "first-order") 
         The table loop is unstable for these parameters (physical table).
     """
     if isinstance(params, LTITable):
-        return TableModel(params.tf("z", "u"), params.tf("z", "w"), float(params.loop_time), {})
+        return TableModel(
+            params.tf("z", "u"), params.tf("z", "w"), float(params.loop_time), {}, params.capacity.stated()
+        )
     tbl = LinearTable(params, delay=delay).require_stable()
     return TableModel(tbl.tf("z", "u"), tbl.tf("z", "w"), float(params.loop_time), params.to_dict())
 

@@ -117,6 +117,13 @@ class ControllerDesign:
     amplitude_certificate : mapping or None
         Constraint III of an LR/FP design over a range of isolator amplitudes
         (:mod:`impedance_mil.design.optimized.amplitudes`), when computed.
+    capacity : mapping
+        Stated capacity of a table given as a linear model (``TableModel.capacity``,
+        internal units); empty for a physical table.
+    table_paths : mapping
+        For a table given as a linear model, the paths the design used:
+        ``{"H_zu": ..., "H_zw": ...}`` (so that a run can check it is the same
+        table); empty for a physical table, whose ``table`` parameters say it.
     """
 
     form: str
@@ -135,6 +142,8 @@ class ControllerDesign:
     software_version: str = __version__
     optimization: Mapping[str, Any] | None = None
     amplitude_certificate: Mapping[str, Any] | None = None
+    capacity: Mapping[str, float] = field(default_factory=dict)
+    table_paths: Mapping[str, TransferFunction] = field(default_factory=dict)
 
     def constraint_at(self, fc_hz: float) -> ConstraintResult:
         """The constraint result for a cut-off [Hz] (NotEvaluatedError, a KeyError, when not evaluated)."""
@@ -423,6 +432,8 @@ def design_controller(
         feasible_fc_hz=feasible_fc_hz,
         warnings=tuple(notes),
         table=dict(table.parameters),
+        capacity=dict(table.capacity),
+        table_paths={} if table.parameters else {"H_zu": table.H_zu, "H_zw": table.H_zw},
         vs=None
         if form == "tracking" or vs is None
         else {

@@ -112,7 +112,24 @@ def coupled_stability(
     >>> r.stable, round(r.min_damping_ratio, 4)                      # 3 s^2 + s + 100
     (True, 0.0289)
     """
-    p = closed_loop_poles(H_c, Z)
+    return stability_of_poles(closed_loop_poles(H_c, Z), specimen, above_hz)
+
+
+def stability_of_poles(
+    p: np.ndarray, specimen: str = "", above_hz: float = DEFAULT_ABOVE_HZ
+) -> CoupledStability:
+    """The :class:`CoupledStability` of closed-loop poles ``p`` [rad/s] (see :func:`coupled_stability`).
+
+    Parameters
+    ----------
+    p : ndarray of complex
+        Closed-loop poles [rad/s].
+    specimen : str
+        Label.
+    above_hz : float
+        Lower end [Hz] of the poles counted by the high-frequency margin.
+    """
+    p = np.asarray(p, dtype=complex)
     if p.size == 0:
         return CoupledStability(specimen, True, float("-inf"), 1.0, float("nan"), 1.0, float("nan"), above_hz)
     wn = np.abs(p)

@@ -69,12 +69,19 @@ class TableModel:
         tolerance of the first-order delay approximation (Section 4.3.4).
     parameters : mapping
         The table parameters (``TableParameters.to_dict()``), kept for the design file.
+    capacity : mapping
+        The stated capacity of a table given as a linear model (``[capacity]`` of
+        its file: ``stroke`` [in], ``velocity`` [in/s], ``force`` [lbf], ``mass``
+        [lbf*s**2/in], ``piston_area`` [in**2]; :mod:`impedance_mil.plant.capacity`),
+        kept for the design file: the generated code's limits come from it.  Empty
+        for a physical table, whose parameters imply it.
     """
 
     H_zu: TransferFunction
     H_zw: TransferFunction
     loop_time_s: float
     parameters: Mapping[str, Any] = field(default_factory=dict)
+    capacity: Mapping[str, float] = field(default_factory=dict)
 
     @property
     def nyquist_hz(self) -> float:

@@ -11,6 +11,9 @@ Schema (JSON, version 1)::
                 "ripple_db": float, "fc_w_hz": float|null},
      "loop_time_s": float,
      "table": {TableParameters.to_dict()},
+     "capacity": {"stroke": in, "velocity": in/s, "force": lbf, "mass": lbf*s**2/in,
+                  "piston_area": in**2}   (optional: a table given as a linear model)
+     "table_paths": {"H_zu": {...}, "H_zw": {...}}   (optional: that table's paths)
      "vs": {"kind": str, "name": str|null, "parameters": {...}}|null,
      "H_uz": {"num": [...], "den": [...]}, "H_uw": {...}, "H_ufh": {...}|null,
      "constraints": [...], "feasible_fc_hz": [lo, hi]|null, "warnings": [...]}
@@ -34,6 +37,7 @@ from typing import Any
 from ..config import quantity
 from ..errors import ConfigError, DataFileError, ImilError
 from ..fileio import atomic_write_text, json_safe, parse_json, read_text
+from ..plant.capacity import CAPACITY_KEYS
 from ..plant.parameters import FIELDS as TABLE_FIELDS
 from ..plant.parameters import VALVE_KINDS
 from ..plausibility import TABLE_BOUNDS, check_table
@@ -92,6 +96,12 @@ def design_to_dict(design: ControllerDesign) -> dict[str, Any]:
             "filter": body["filter"],
             "loop_time_s": body["loop_time_s"],
             "table": dict(design.table),
+            **({"capacity": dict(design.capacity)} if design.capacity else {}),
+            **(
+                {"table_paths": {k: tf.to_dict() for k, tf in design.table_paths.items()}}
+                if design.table_paths
+                else {}
+            ),
             "vs": design.vs,
             "H_uz": body["H_uz"],
             "H_uw": body["H_uw"],
@@ -220,6 +230,8 @@ def _design(doc: dict[str, Any]) -> ControllerDesign:
         feasible_fc_hz=feas,
         warnings=tuple(_strings("warnings", doc["warnings"])),
         table=dict(doc["table"] or {}),
+        capacity=_capacity(doc.get("capacity")),
+        table_paths=_table_paths(doc.get("table_paths")),
         vs=_vs_entry(doc["vs"]),
         software_version=_string("software_version", doc["software_version"]),
         optimization=doc.get("optimization") if doc["version"] == VERSION_OPTIMIZED else None,
@@ -386,6 +398,34 @@ def _vs_entry(entry: Any) -> dict[str, Any] | None:
     if not isinstance(entry.get("parameters"), dict):
         raise ConfigError("vs.parameters", "an object of parameters", _shown(entry.get("parameters")))
     return entry
+
+
+def _capacity(section: Any) -> dict[str, float]:
+    """The optional ``capacity`` of a design from an LTI table: known keys, positive numbers (internal units)."""
+    if section is None:
+        return {}
+    if not isinstance(section, dict):
+        raise ConfigError(
+            "capacity", "the stated capacity of an LTI table (stroke, velocity, ...)", _shown(section)
+        )
+    for key in section:
+        if key not in CAPACITY_KEYS:
+            raise ConfigError(f"capacity.{key}", "one of the keys " + ", ".join(CAPACITY_KEYS))
+    return {key: _number(f"capacity.{key}", value, "positive") for key, value in section.items()}
+
+
+#: The paths of an LTI table a design file may record (``table_paths``).
+_TABLE_PATHS = ("H_zu", "H_zw")
+
+
+def _table_paths(section: Any) -> dict[str, TransferFunction]:
+    """The optional ``table_paths`` of a design from an LTI table (both paths, or none)."""
+    if section is None:
+        return {}
+    if not isinstance(section, dict) or set(section) != set(_TABLE_PATHS):
+        raise ConfigError("table_paths", "the table's paths {'H_zu': {...}, 'H_zw': {...}}", _shown(section))
+    paths = {key: _transfer_function(section[key], f"table_paths.{key}") for key in _TABLE_PATHS}
+    return {key: tf for key, tf in paths.items() if tf is not None}
 
 
 def _check_table(table: Any) -> None:

@@ -160,14 +160,19 @@ _TABLE_KEYS = (
 )
 
 
+#: Keys of an LTI table's stated capacity the limits are derived from (:mod:`impedance_mil.plant.capacity`).
+_CAPACITY_KEYS = ("stroke", "velocity", "force", "mass")
+
+
 def command_limits(
     table: Mapping[str, Any] | None,
     *,
     stroke: Any = None,
     max_rate: Any = None,
     where: str = "design table.",
+    capacity: Mapping[str, float] | None = None,
 ) -> CommandLimits:
-    """The command limits of a design: from its table, or from explicit values.
+    """The command limits of a design: from its table, or its stated capacity, or explicit values.
 
     Parameters
     ----------
@@ -184,14 +189,54 @@ def command_limits(
         with units.  They may not exceed the table's capacity.
     where : str
         Prefix of the table's keys in messages.
+    capacity : Mapping, optional
+        For a design from a table given as a linear model (no physical
+        ``table``): its stated capacity (``[capacity]`` of the table file,
+        internal units): ``stroke`` [in], ``velocity`` [in/s], ``force`` [lbf]
+        (the stall force, the input ranges' base as above) and ``mass``
+        [lbf*s**2/in].  Used when ``table`` is empty (such a design has no
+        physical parameters).
 
     Raises
     ------
     ConfigError
-        A table key the limits need is missing (naming it), or an explicit
-        limit is not a positive length/velocity or exceeds the table's.
+        A table (or capacity) key the limits need is missing (naming it), or an
+        explicit limit is not a positive length/velocity or exceeds the table's.
     """
     table = table or {}
+    if not table:  # a design from a table given as a linear model: no physical parameters
+        own = _stated_capacity(capacity or {})
+    else:
+        own = _physical_capacity(table, where)
+    chosen, sources = {}, {}
+    for name, value, unit, option in (
+        ("stroke", stroke, "inch", "--stroke"),
+        ("rate", max_rate, "inch / second", "--max-rate"),
+    ):
+        number, what = own[name]
+        if value is None:
+            chosen[name], sources[name] = number, f"the design's table: {what} {number:.6g}"
+            continue
+        given = quantity(option, value, unit, "positive")
+        if given > number * (1.0 + 1e-12):
+            shown = unit.replace("inch", "in").replace(" / second", "/s")
+            raise ConfigError(option, f"at most the table's {what}, {number:.6g} {shown}", value)
+        chosen[name], sources[name] = given, f"{option} {value}"
+    force, force_what = own["force"]
+    sources["inputs"] = (
+        f"{INPUT_RANGE_FACTOR:g} x the design table's {force_what} = {force:.6g} lbf, and that force over its mass"
+    )
+    return CommandLimits(
+        stroke_in=chosen["stroke"],
+        max_rate_in_s=chosen["rate"],
+        accel_limit_in_s2=INPUT_RANGE_FACTOR * force / own["mass"][0],
+        force_limit_lbf=INPUT_RANGE_FACTOR * force,
+        sources=sources,
+    )
+
+
+def _physical_capacity(table: Mapping[str, Any], where: str) -> dict[str, tuple[float, str]]:
+    """Stroke, rate, force and mass of a physical table, each with what it is."""
     for key in _TABLE_KEYS:
         if table.get(key) is None:
             raise ConfigError(
@@ -207,30 +252,29 @@ def command_limits(
         rated_flow=table["rated_flow"],
         rated_pressure_drop=table["rated_pressure_drop"],
     )
-    chosen, sources = {}, {}
-    for name, value, unit, option, own, what in (
-        ("stroke", stroke, "inch", "--stroke", capacity.stroke_in, "mid_stroke"),
-        ("rate", max_rate, "inch / second", "--max-rate", capacity.velocity_in_s, "valve velocity capacity"),
-    ):
-        if value is None:
-            chosen[name], sources[name] = own, f"the design's table: {what} {own:.6g}"
-            continue
-        given = quantity(option, value, unit, "positive")
-        if given > own * (1.0 + 1e-12):
-            shown = unit.replace("inch", "in").replace(" / second", "/s")
-            raise ConfigError(option, f"at most the table's {what}, {own:.6g} {shown}", value)
-        chosen[name], sources[name] = given, f"{option} {value}"
-    sources["inputs"] = (
-        f"{INPUT_RANGE_FACTOR:g} x the design table's force capacity A_p (P_S - P_R) = "
-        f"{capacity.force_lbf:.6g} lbf, and that force over its mass"
-    )
-    return CommandLimits(
-        stroke_in=chosen["stroke"],
-        max_rate_in_s=chosen["rate"],
-        accel_limit_in_s2=INPUT_RANGE_FACTOR * capacity.force_lbf / float(table["mass"]),
-        force_limit_lbf=INPUT_RANGE_FACTOR * capacity.force_lbf,
-        sources=sources,
-    )
+    return {
+        "stroke": (capacity.stroke_in, "mid_stroke"),
+        "rate": (capacity.velocity_in_s, "valve velocity capacity"),
+        "force": (capacity.force_lbf, "force capacity A_p (P_S - P_R)"),
+        "mass": (float(table["mass"]), "mass"),
+    }
+
+
+def _stated_capacity(capacity: Mapping[str, float]) -> dict[str, tuple[float, str]]:
+    """Stroke, rate, force and mass stated by an LTI table's ``[capacity]``, each with what it is."""
+    for key in _CAPACITY_KEYS:
+        if capacity.get(key) is None:
+            raise ConfigError(
+                f"design capacity.{key}",
+                "present: the generated code's stroke clamp, rate limit and input ranges of a table given "
+                "as a linear model come from its [capacity] section (stroke, velocity, force, mass)",
+            )
+    return {
+        "stroke": (float(capacity["stroke"]), "stated stroke (capacity.stroke)"),
+        "rate": (float(capacity["velocity"]), "stated velocity capacity (capacity.velocity)"),
+        "force": (float(capacity["force"]), "stated stall force (capacity.force)"),
+        "mass": (float(capacity["mass"]), "stated mass"),
+    }
 
 
 #: What :func:`check_renderable` calls a channel's system matrix in its message.

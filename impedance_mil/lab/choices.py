@@ -312,6 +312,7 @@ def lab_choice(setup: LabSetup, seed: int, used: dict, key: str = "seed") -> Lab
             setup.sensors.clipping,
             setup.name,
             setup.controller.output_delay,
+            setup.uncertainty,
         )
     except ConfigError as exc:
         raise ConfigError(key, exc.expected, exc.got) from None

@@ -35,6 +35,7 @@ from ..design import ControllerDesign
 from ..errors import ConfigError, DesignRefused
 from ..plant import TableParameters
 from ..plant.lti_table import LTITable
+from ..plant.uncertainty import UncertaintySet
 from ..signals import GroundMotion
 from ..signals.multisine import report_multisine
 from ..specimens import FluidVessel
@@ -188,7 +189,7 @@ def design_violations(design: ControllerDesign, required: tuple[str, ...]) -> li
 class LabChoice:
     """The virtual lab of a run: interlocks, sensors (None: the lab's Table 7.1 suite), plant substeps, seed,
     what a clipped channel does (``clipping``: warn or fail), the lab's name and the controller's
-    output delay [loops]."""
+    output delay [loops]; ``uncertainty``: the lab's ``[uncertainty]`` set (None: none given)."""
 
     limits: SafetyLimits
     sensors: Any
@@ -197,6 +198,7 @@ class LabChoice:
     clipping: str = "warn"
     name: str = "report"
     output_delay: int = 1
+    uncertainty: UncertaintySet | None = field(default=None, compare=False)
 
     def __post_init__(self):
         if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or self.seed < 0:

@@ -25,6 +25,8 @@ import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ..design import ControllerDesign, load_design
 from ..errors import ConfigError
 from ..implement.export import LOOP_TIME_RTOL
@@ -37,6 +39,9 @@ RUN_FORMS = {"mil": "standardized", "track": "tracking"}
 
 #: Relative tolerance of a table parameter of the design against the run's (file round trip).
 TABLE_RTOL = 1e-9
+
+#: Relative tolerance of an LTI table's path responses, the design's against the run's.
+LTI_RTOL = 1e-6
 
 
 def read_design(path: str | Path, kind: str, key: str = "--design") -> ControllerDesign:
@@ -75,10 +80,13 @@ def check_loop_time(
 def table_differences(design: ControllerDesign, table: TableParameters | LTITable) -> list[str]:
     """One sentence per parameter in which the design's table differs from the run's (internal units).
 
-    A design file records the physical parameters of its table, none for an
-    LTI table: a run on an LTI table cannot be compared with any (one sentence says so).
+    A design file records the physical parameters of its table; for an LTI
+    table, the paths ``H_zu`` and ``H_zw`` it was designed on (compared as
+    frequency responses, :func:`lti_differences`).
     """
     if not design.table:
+        if design.table_paths and isinstance(table, LTITable):
+            return lti_differences(design, table)
         return ["the design file records no table parameters, so it cannot be compared with the run's table"]
     if isinstance(table, LTITable):
         return [
@@ -92,6 +100,34 @@ def table_differences(design: ControllerDesign, table: TableParameters | LTITabl
             continue
         unit = FIELDS[name].unit
         out.append(f"{name} = {_text(designed)} in the design, {_text(value)} in the run [{unit}]")
+    return out
+
+
+#: Decades of the frequency grid on which an LTI design's paths are compared with the run's [Hz].
+_LTI_GRID_HZ = (1e-2, 1e3)
+
+
+def lti_differences(design: ControllerDesign, table: LTITable) -> list[str]:
+    """One sentence per path (``H_zu``, ``H_zw``) whose response differs from the run's LTI table.
+
+    The design's and the run's paths are compared on 0.01 Hz to 1 kHz (or the
+    loop's Nyquist frequency, if lower), 50 points per decade: a path differs
+    when its largest relative difference exceeds :data:`LTI_RTOL`
+    (a file round trip of polynomial coefficients, realized again, is within
+    1e-12 here; another table is not).
+    """
+    top = _LTI_GRID_HZ[1] if table.loop_time <= 0 else min(_LTI_GRID_HZ[1], 0.5 / table.loop_time)
+    f = np.geomspace(_LTI_GRID_HZ[0], top, int(50 * np.log10(top / _LTI_GRID_HZ[0])) + 1)
+    out = []
+    for name, (output, command) in (("H_zu", ("z", "u")), ("H_zw", ("z", "w"))):
+        designed = design.table_paths[name].frequency_response(f)
+        run = table.tf(output, command).frequency_response(f)
+        scale = np.maximum(np.abs(run), np.finfo(float).tiny)
+        worst = float(np.max(np.abs(designed - run) / scale))
+        if not worst <= LTI_RTOL:
+            out.append(
+                f"{name} differs from the run's table by up to {worst:.3g} (relative) over {f[0]:g}-{top:g} Hz"
+            )
     return out
 
 

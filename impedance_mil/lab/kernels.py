@@ -10,7 +10,9 @@ The kernels of one tick (the order is written once, in
    ``z`` and the load-cell force ``w_LC``; ``w_FE = m_st z - A_p dP`` from force
    equilibrium (Section 8.3.2);
 2. **safety** (:func:`check_limits`): stroke, velocity, actuator force, valve
-   saturation, NaN and divergence, returned as a
+   saturation, NaN and divergence, and a growing high-frequency oscillation of
+   the measured acceleration (:func:`hf_oscillation_check`, the criterion of
+   :mod:`impedance_mil.lab.oscillation`), returned as a
    :class:`~impedance_mil.lab.trips.TripCause`;
 3. **controller** (:func:`track_step`, :func:`mil_step`): the runtime kernels
    of :mod:`impedance_mil.implement`, the VS through its tick;
@@ -40,6 +42,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ..implement.kernels import controller_step_parts
@@ -68,8 +71,21 @@ from .stepping import (
     plant_advance,
     specimen_force_state,
 )
-from .structures import Q_DP, Q_FORCE, Q_W, Q_X, Q_Z, Measurements, PlantTruth, record_loop
+from .structures import (
+    HF_STATE_FIELDS,
+    Q_DP,
+    Q_FORCE,
+    Q_W,
+    Q_X,
+    Q_Z,
+    Measurements,
+    PlantTruth,
+    record_loop,
+)
 from .trips import TripCause
+
+#: The detector's state alone (for :func:`hf_window_history`).
+HF_STATE = np.dtype(HF_STATE_FIELDS, align=True)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -180,6 +196,72 @@ def check_table(limits, y, m, x, v, force):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def hf_oscillation_check(limits, h, z):
+    """The high-frequency instability interlock on the measured acceleration ``z`` [in/s^2] of this loop.
+
+    ``h`` is the held record (:data:`~impedance_mil.lab.structures.HELD_STATE`
+    or :data:`~impedance_mil.lab.structures.LTI_HELD_STATE`, whose
+    :data:`~impedance_mil.lab.structures.HF_STATE_FIELDS` it updates).  ``z``
+    goes through the high-pass ``limits.hf_filter`` and its square into the
+    current window; at a window's end its rms counts as growth when it exceeds
+    ``limits.hf_growth`` times the previous window's, itself at least
+    ``limits.hf_floor``.  Returns ``(TripCause.HF_OSCILLATION, window rms
+    [in/s^2])`` at the end of the ``limits.hf_windows``-th growing window in a
+    row, else ``(TripCause.NONE, 0)``.  The criterion and its sources are in
+    :mod:`impedance_mil.lab.oscillation` (report Figures 9.33-9.34; Gálmez and
+    Fermandois 2020).
+    """
+    f = limits.hf_filter
+    if f.window_loops == 0:
+        return TripCause.NONE, 0.0
+    y = f.b0 * z + f.b1 * h.hf_x1 + f.b2 * h.hf_x2 - f.a1 * h.hf_y1 - f.a2 * h.hf_y2
+    h.hf_x2 = h.hf_x1
+    h.hf_x1 = z
+    h.hf_y2 = h.hf_y1
+    h.hf_y1 = y
+    h.hf_sum += y * y
+    h.hf_n += 1
+    if h.hf_n < f.window_loops:
+        return TripCause.NONE, 0.0
+    rms = math.sqrt(h.hf_sum / h.hf_n)
+    h.hf_sum = 0.0
+    h.hf_n = 0
+    if h.hf_prev >= limits.hf_floor and rms > limits.hf_growth * h.hf_prev:
+        h.hf_count += 1
+    else:
+        h.hf_count = 0
+    h.hf_prev = rms
+    if h.hf_count >= limits.hf_windows:
+        return TripCause.HF_OSCILLATION, rms
+    return TripCause.NONE, 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def hf_window_history(limits, z):
+    """The detector of :func:`hf_oscillation_check` run over the accelerations ``z`` [in/s^2], one per loop.
+
+    Returns ``(rms, count)``: each window's rms [in/s^2] and the count of
+    consecutive growing windows at its end (the detector does not stop: the
+    history goes on past a trip).  For analysis (the margin of a stable run,
+    :func:`impedance_mil.lab.oscillation` documents the criterion); the loop
+    itself runs :func:`hf_oscillation_check`.
+    """
+    held = np.zeros(1, HF_STATE)
+    n_windows = z.shape[0] // max(limits.hf_filter.window_loops, 1)
+    rms = np.zeros(n_windows)
+    count = np.zeros(n_windows, np.int64)
+    j = 0
+    h = held[0]
+    for k in range(z.shape[0]):
+        hf_oscillation_check(limits, h, z[k])
+        if h.hf_n == 0 and j < n_windows:
+            rms[j] = h.hf_prev
+            count[j] = h.hf_count
+            j += 1
+    return rms[:j], count[:j]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def check_limits(pa, limits, y, m, held):
     """Safety check of one tick: ``(TripCause, offending value)`` (``TripCause.NONE``: all clear).
 
@@ -202,7 +284,7 @@ def check_limits(pa, limits, y, m, held):
     slew_rms = math.sqrt(held.slew_sq)
     if slew_rms > limits.command_slew:
         return TripCause.COMMAND_OSCILLATION, slew_rms
-    return TripCause.NONE, 0.0
+    return hf_oscillation_check(limits, held, m.z)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -370,6 +452,8 @@ __all__ = [
     "delayed_output",
     "measure_quantities",
     "hydraulic_command",
+    "hf_oscillation_check",
+    "hf_window_history",
     "mil_step",
     "plant_advance",
     "plant_sense",

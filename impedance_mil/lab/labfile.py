@@ -4,12 +4,15 @@ Sections (TOML, every value with a unit or in the report's unit)::
 
     [table]        file = "my_table.toml" (relative to the lab file), and/or table keys inline
     [limits]       stroke, velocity, acceleration, actuator_force, pressure, valve_command,
+                   hf_cutoff (or "none"), hf_window, hf_growth, hf_windows, hf_floor,
                    valve_current, valve_duty, valve_saturation_time, command_slew,
                    interlock_window, divergence
     [sensors]      clipping = "warn" | "fail", and [sensors.NAME] channels (lab.labsensors)
     [controller]   loop_time, output_delay (samples), precision, feedback, substeps,
                    adc_bits, adc_range, dac_range, io_units (of the exported code)
     [specimen]     kind (vessel, rigid, none or a specimen file), water_depth, article_weight
+    [uncertainty]  ranges of uncertain table parameters (plant.uncertainty): f_oil_hz = "±10 %",
+                   extra_delay = { min = 0, max = "1 loop" } ...
     units          "us" or "si" (top level): the units of what the commands print
 
 ``--lab report`` (the default) is the report's setup: the lab sections of
@@ -37,17 +40,18 @@ from ..plant.lti_table import LTITable
 from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
 from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
+from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .labsensors import Converter, SensorSetup, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
 from .lti_plant import lti_limits, virtual_table_for
-from .setup import MAX_OUTPUT_DELAY, SafetyLimits
+from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
 
 #: Name of the shipped lab of the report (its sections live in data/report/config.toml).
 REPORT_LAB = "report"
 
 #: Sections of a lab file.
-LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen")
+LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen", "uncertainty")
 
 #: Sections of the report's setup file that are not the lab's (read by report_config).
 _EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf", "tuning")
@@ -66,7 +70,17 @@ LIMIT_FIELDS = {
     "command_slew": Field("volt / second", default=0.0, help="rms slew of the valve command"),
     "interlock_window": Field("second", default=0.0, help="averaging time of the valve interlocks"),
     "divergence": Field("inch", default=0.0, help="displacement declared divergent"),
+    "hf_cutoff": Field("hertz", default=0.0, help='band of the instability detector ("none": off)'),
+    "hf_window": Field("second", default=0.0, help="rms window of the instability detector"),
+    "hf_growth": Field("dimensionless", default=0.0, help="window-to-window rms ratio counted as growth"),
+    "hf_windows": Field(
+        "dimensionless", default=0.0, integer=True, help="growing windows in a row that trip"
+    ),
+    "hf_floor": Field("inch / second ** 2", default=0.0, help="rms the growth must start from"),
 }
+
+#: Keys of ``[limits]`` that may be ``"none"`` (the interlock off).
+_LIMITS_OFF = ("hf_cutoff",)
 
 #: Keys of ``[controller]`` read as quantities.
 CONTROLLER_FIELDS = {
@@ -87,6 +101,8 @@ GENERIC_DEFAULTS = {
     "limits.divergence": "the larger of 20 in and 4 strokes",
     "limits.valve_command": "the table's valve_command_limit",
     "limits.(others)": "as impedance_mil.lab.setup.SafetyLimits documents (none for acceleration, pressure)",
+    "limits.hf_cutoff": "15 Hz (report Figures 9.33-9.34); hf_window 0.2 s, hf_growth 2, hf_windows 3, "
+    "hf_floor 10 x the default accelerometer noise (impedance_mil.lab.oscillation)",
     "sensors": "one channel per quantity sized from the table (lab.labsensors.generic_sensors)",
     "controller.loop_time": "the table's loop_time",
     "controller.output_delay": "1 loop",
@@ -158,6 +174,8 @@ class LabSetup:
         Where each value came from: ``file``, ``default`` or ``--set``.
     units : UnitSystem
         The units of what the lab's commands print (``units = "us" | "si"``, default us).
+    uncertainty : UncertaintySet or None
+        The ranges of the table's uncertain parameters (``[uncertainty]``; None: none given).
     """
 
     name: str
@@ -169,6 +187,7 @@ class LabSetup:
     specimen: SpecimenSetup
     sources: Mapping[str, str] = field(default_factory=dict)
     units: UnitSystem = UnitSystem.US
+    uncertainty: UncertaintySet | None = None
 
     @property
     def defaults(self) -> tuple[str, ...]:
@@ -191,10 +210,24 @@ class LabSetup:
             raise ConfigError("table.file", "a physical table file: an LTI table ([model]) has no parameters")
         return self.table
 
+    def _hf_limits(self) -> dict[str, Any]:
+        """The instability detector's keys as the lab file writes them (``hf_cutoff`` None: off)."""
+        off = self.limits.hf_cutoff is None
+        floor = self.limits.hf_values(self.controller.loop_time, accelerometer_noise(self.sensors.suite))[
+            "hf_floor"
+        ]
+        return {
+            "hf_cutoff": self.limits.hf_cutoff,
+            "hf_window": None if off else self.limits.hf_window,
+            "hf_growth": None if off else self.limits.hf_growth,
+            "hf_windows": None if off else self.limits.hf_windows,
+            "hf_floor": None if off else floor,
+        }
+
     def to_dict(self) -> dict[str, Any]:
         """The effective setup with the source of each value (``imil lab show --json``)."""
         if isinstance(self.table, LTITable):
-            limits = lti_limits(self.limits, virtual_table_for(self.table)).values._asdict()
+            limits = lti_limits(self.limits, virtual_table_for(self.table)).values._asdict()  # hf_* below
             command = None  # no valve
         else:
             limits = self.limits.kernel_values(NonlinearTable.from_linear(self.table))._asdict()
@@ -203,8 +236,11 @@ class LabSetup:
             "lab": self.name,
             "file": str(self.path),
             "table": self.table.to_dict(),
-            "limits": {k: (None if math.isinf(v) else v) for k, v in limits.items()}
-            | {"valve_command": command},
+            "limits": {
+                k: (None if math.isinf(v) else v) for k, v in limits.items() if not k.startswith("hf_")
+            }
+            | {"valve_command": command}
+            | self._hf_limits(),
             "sensors": {
                 "clipping": self.sensors.clipping,
                 "channels": [
@@ -238,6 +274,7 @@ class LabSetup:
                 "water_depth": self.specimen.water_depth,
                 "article_weight": self.specimen.article_weight,
             },
+            "uncertainty": None if self.uncertainty is None else self.uncertainty.to_dict(),
             "sources": dict(self.sources),
             "output_units": self.units.value,
         }
@@ -257,6 +294,11 @@ LAB_UNITS = {
     "limits.command_slew": "V/s",
     "limits.interlock_window": "s",
     "limits.divergence": "in",
+    "limits.hf_cutoff": "Hz",
+    "limits.hf_window": "s",
+    "limits.hf_growth": "",
+    "limits.hf_windows": "",
+    "limits.hf_floor": "in/s**2",
     "sensors.channels.range": "unit of the channel",
     "sensors.channels.bandwidth": "Hz",
     "controller.loop_time": "s",
@@ -352,7 +394,20 @@ def load_lab(
     sources["sensors"] = sensors.source
     specimen = _specimen(data.get("specimen"), base, where, sources)
     sources["units"] = "file" if units_given else "default"
-    return LabSetup(label, path, params, limits, sensors, controller, specimen, sources, units)
+    uncertainty = _uncertainty(data.get("uncertainty"), params, where)
+    return LabSetup(label, path, params, limits, sensors, controller, specimen, sources, units, uncertainty)
+
+
+def _uncertainty(section: Any, params: TableDefinition, where: str) -> UncertaintySet | None:
+    """The ``[uncertainty]`` ranges (None without the section); an LTI table has no parameters to vary."""
+    if section is None:
+        return None
+    if isinstance(params, LTITable):
+        raise ConfigError(
+            f"{where}uncertainty",
+            "no [uncertainty] with an LTI table (it has no physical parameters to vary)",
+        )
+    return parse_uncertainty(section, params, where)
 
 
 def _has_sections(data: Mapping[str, Any]) -> bool:
@@ -457,9 +512,11 @@ def _output_delay(value: Any, loop: float, key: str) -> int:
 def _limits(
     section: Any, table: TableParameters, controller: ControllerSetup, where: str, sources: dict
 ) -> tuple[SafetyLimits, float]:
-    given = _given(_mapping(section, "limits", where), LIMIT_FIELDS, f"{where}limits.")
+    raw = dict(_mapping(section, "limits", where))
+    off = {k: None for k in _LIMITS_OFF if isinstance(raw.get(k), str) and raw[k].strip().lower() == "none"}
+    given = _given({k: v for k, v in raw.items() if k not in off}, LIMIT_FIELDS, f"{where}limits.")
     for key in LIMIT_FIELDS:
-        sources[f"limits.{key}"] = "file" if key in given else "default"
+        sources[f"limits.{key}"] = "file" if key in given or key in off else "default"
     for key, value in given.items():
         if not value > 0:
             raise ConfigError(f"{where}limits.{key}", "a positive value", value)
@@ -486,7 +543,11 @@ def _limits(
     if "valve_duty" in given and given["valve_duty"] > 1:
         raise ConfigError(f"{where}limits.valve_duty", "a fraction in (0, 1]", given["valve_duty"])
     try:
-        limits = SafetyLimits(stroke=stroke, velocity=velocity, divergence=divergence, **given)
+        keys: dict[str, Any] = {**given, **off}
+        if "hf_windows" in keys:
+            keys["hf_windows"] = int(keys["hf_windows"])  # a whole number (the field is read as one)
+        limits = SafetyLimits(stroke=stroke, velocity=velocity, divergence=divergence, **keys)
+        limits.hf_detector(controller.loop_time)  # a cutoff above Nyquist is refused here, naming the key
     except ConfigError as exc:
         raise ConfigError(f"{where}{exc.key}", exc.expected, exc.got) from None
     return limits, command

@@ -31,7 +31,14 @@ from ..plant.nonlinear import N_TABLE_STATES
 from .lti_plant import LTIVirtualTable, check_feedback, lti_limits, virtual_table_for
 from .plant_interface import PlantInterface, VirtualLTITable, VirtualTable, lti_plant, specimen_arrays
 from .results import RunResult
-from .setup import SafetyLimits, default_sensors, draw_noise, output_line, sensor_arrays
+from .setup import (
+    SafetyLimits,
+    accelerometer_noise,
+    default_sensors,
+    draw_noise,
+    output_line,
+    sensor_arrays,
+)
 from .structures import (
     FEEDBACK_FE,
     FEEDBACK_LC,
@@ -121,7 +128,7 @@ def _trip(done: int, cause: TripCause, value: float, loop_time: float) -> Trip |
     return None if cause == TripCause.NONE else Trip(cause, done * loop_time, float(value))
 
 
-def _virtual_plant(table, specimen, sens, limits, nsub, noise, line) -> VirtualPlant:
+def _virtual_plant(table, specimen, sens, limits, nsub, noise, line, accel_noise) -> VirtualPlant:
     """The physical table's :class:`VirtualPlant`, at equilibrium."""
     spec = specimen_arrays(specimen)
     n_y = N_TABLE_STATES + spec.B.size
@@ -132,7 +139,7 @@ def _virtual_plant(table, specimen, sens, limits, nsub, noise, line) -> VirtualP
         y=y,
         specimen=spec,
         sensors=sens,
-        limits=limits.kernel_values(table),
+        limits=limits.kernel_values(table, accel_noise),
         substeps=nsub,
         noise=noise,
         work=np.zeros((5, n_y)),
@@ -218,7 +225,7 @@ def simulate(
     sensors = sensors or default_sensors()
     sens = sensor_arrays(sensors, feedback, quantize, table.loop_time / nsub)
     limits = limits or SafetyLimits()
-    lti_lim = lti_limits(limits, table) if lti else None
+    lti_lim = lti_limits(limits, table, accelerometer_noise(sensors)) if lti else None
     mode, ag, cmd = _mode_and_inputs(command, a_g, runtime, table.loop_time)
     line = output_line(output_delay)
     config = {**(config or {}), "output_delay": int(output_delay)}
@@ -264,7 +271,7 @@ def simulate(
         plant_lti = lti_plant(table, specimen, sens, lti_lim.values, nsub, noise, output_delay)
         done, cause, value = run_lti_loop(plant_lti, control, vs_tick, log)
     else:
-        plant = _virtual_plant(table, specimen, sens, limits, nsub, noise, line)
+        plant = _virtual_plant(table, specimen, sens, limits, nsub, noise, line, accelerometer_noise(sensors))
         done, cause, value = run_loop(plant, control, vs_tick, log)
     channels, vs_states = log.up_to(done)
     return RunResult(

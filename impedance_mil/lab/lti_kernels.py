@@ -11,7 +11,8 @@ code it was, and the LTI table pays for no branch of the other.
 What is shared with the physical table, function for function: the sensors
 (:func:`~impedance_mil.lab.kernels.measure_quantities`: calibration, noise,
 quantization, range, anti-alias filters, ``w_LC``, ``w_FE``), the interlocks
-every table has (:func:`~impedance_mil.lab.kernels.check_table`), the
+every table has (:func:`~impedance_mil.lab.kernels.check_table` and the
+high-frequency instability detector :func:`~impedance_mil.lab.kernels.hf_oscillation_check`), the
 controller and VS stages, the output delay's ring buffer
 (:func:`~impedance_mil.lab.kernels.delayed_output`) and the records.  What
 is the LTI table's own (:mod:`impedance_mil.lab.lti_plant`):
@@ -36,6 +37,7 @@ from numba import njit
 from .kernels import (
     check_table,
     delayed_output,
+    hf_oscillation_check,
     measure_quantities,
     mil_step,
     record,
@@ -45,6 +47,7 @@ from .kernels import (
 from .lti_plant import ROW_V
 from .stepping import filter_step
 from .structures import Q_DP, Q_W, Q_X, Q_Z, Measurements, PlantTruth
+from .trips import TripCause
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -104,6 +107,8 @@ def sense_and_check(plant, noise_row, time_s):
         m = Measurements(m.time_s, m.x, math.nan, m.z, m.w_lc, math.nan)
     h.x, h.v, h.z, h.dp, h.w = q[Q_X], v, q[Q_Z], q[Q_DP] if t.has_dp else math.nan, q[Q_W]
     cause, value = check_table(plant.limits, plant.y, m, h.x, v, t.area * m.dp)
+    if cause == TripCause.NONE:
+        cause, value = hf_oscillation_check(plant.limits, h, m.z)
     return m, cause, value
 
 

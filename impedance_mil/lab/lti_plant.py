@@ -304,7 +304,7 @@ class LTILimits:
     unavailable: dict
 
 
-def lti_limits(limits: SafetyLimits, table: LTIVirtualTable) -> LTILimits:
+def lti_limits(limits: SafetyLimits, table: LTIVirtualTable, accel_noise: float | None = None) -> LTILimits:
     """The interlocks of ``limits`` an LTI table can have.
 
     Stroke, divergence, acceleration and (with v, given or derived) velocity
@@ -313,7 +313,9 @@ def lti_limits(limits: SafetyLimits, table: LTIVirtualTable) -> LTILimits:
     for the physical table, when the model states it (``max_force``), and
     none otherwise.  The pressure interlock
     needs dP.  The valve interlocks (saturation, duty, current, command
-    oscillation) do not apply: the model has no valve.
+    oscillation) do not apply: the model has no valve.  The high-frequency
+    instability detector applies as for the physical table (``accel_noise``
+    [in/s**2 rms], the accelerometer's noise, sets its default floor).
 
     Raises
     ------
@@ -358,6 +360,7 @@ def lti_limits(limits: SafetyLimits, table: LTIVirtualTable) -> LTILimits:
         interlock_window=float(limits.interlock_window),
         acceleration=math.inf if limits.acceleration is None else float(limits.acceleration),
         pressure=math.inf if limits.pressure is None else float(limits.pressure),
+        **limits.hf_values(table.loop_time, accel_noise),
     )
     return LTILimits(values, unavailable)
 

@@ -26,7 +26,14 @@ from ..plant.nonlinear import N_TABLE_STATES
 from . import kernels, lti_kernels
 from .kernels import SPEC_BANK, SPEC_CSR, plant_advance
 from .lti_plant import LTIVirtualTable, check_feedback, lti_arrays, lti_limits, virtual_table_for
-from .setup import SafetyLimits, default_sensors, draw_noise, output_line, sensor_arrays
+from .setup import (
+    SafetyLimits,
+    accelerometer_noise,
+    default_sensors,
+    draw_noise,
+    output_line,
+    sensor_arrays,
+)
 from .structures import (
     HELD_STATE,
     LTI_HELD_STATE,
@@ -226,7 +233,7 @@ class VirtualTable(_CompiledPlant):
             y=np.zeros(n),
             specimen=spec,
             sensors=sensor_arrays(self.sensors, feedback, quantize, self.loop_time / self.substeps),
-            limits=(limits or SafetyLimits()).kernel_values(table),
+            limits=(limits or SafetyLimits()).kernel_values(table, accelerometer_noise(self.sensors)),
             substeps=self.substeps,
             noise=np.zeros((1, self.sensors.n_channels), np.float32),
             work=np.zeros((5, n)),
@@ -339,7 +346,7 @@ class VirtualLTITable(_CompiledPlant):
             self.table,
             specimen,
             sensor_arrays(self.sensors, feedback, quantize, self.loop_time / self.substeps),
-            lti_limits(limits or SafetyLimits(), self.table).values,
+            lti_limits(limits or SafetyLimits(), self.table, accelerometer_noise(self.sensors)).values,
             self.substeps,
             np.zeros((1, self.sensors.n_channels), np.float32),
             output_delay,

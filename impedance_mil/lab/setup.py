@@ -16,6 +16,16 @@ import numpy as np
 from ..errors import ConfigError
 from ..lazy import LazyModule
 from ..specimens.sensors import QUANTITIES, SensorSuite
+from .oscillation import (
+    HF_CUTOFF_HZ,
+    HF_GROWTH,
+    HF_WINDOW_S,
+    HF_WINDOWS,
+    HIGHPASS_OFF,
+    HighPass,
+    default_floor,
+    highpass_coefficients,
+)
 from .structures import FilterArrays, LimitValues, SensorArrays
 
 #: scipy.linalg, imported on first use (issue 16: a command that only reads a configuration does not need it).
@@ -48,6 +58,18 @@ def default_sensors(noise_rms_v: float = DEFAULT_NOISE_V) -> SensorSuite:
 def ideal_sensors() -> SensorSuite:
     """:func:`default_sensors` without noise (pass ``quantize=False`` to drop the 16 bits too)."""
     return default_sensors(0.0)
+
+
+def accelerometer_noise(suite: SensorSuite) -> float:
+    """rms noise [in/s**2] of the suite's first table-acceleration channel: its noise and quantization.
+
+    ``sqrt(noise_rms_v^2 + lsb^2 / 12) |scale|`` (uniform quantization error
+    of one LSB); 0 when no channel measures the table acceleration.
+    """
+    for s in suite.sensors:
+        if s.quantity == "table_acceleration":
+            return abs(s.scale) * math.sqrt(s.noise_rms_v**2 + s.lsb_v**2 / 12.0)
+    return 0.0
 
 
 def draw_noise(rng: np.random.Generator, suite: SensorSuite, n_loops: int | None = None):
@@ -234,6 +256,22 @@ class SafetyLimits:
     pressure : float, optional
         Measured differential-pressure limit |dP| [psi]; default none (the
         actuator-force interlock, A_p |dP|, stands for it).
+    hf_cutoff : float, optional
+        Lower edge [Hz] of the band of the high-frequency instability detector
+        (trip ``hf_oscillation``, :mod:`impedance_mil.lab.oscillation`);
+        default 15 Hz (report Figures 9.33-9.34: the oscillation of the
+        unstable MIL runs is at 15+ Hz); None switches the detector off.
+    hf_window : float
+        rms window of the detector [s]; default 0.2 s (three periods at 15 Hz).
+    hf_growth : float
+        Window-to-window rms ratio counted as growth [-], > 1; default 2.
+    hf_windows : int
+        Consecutive growing windows that trip [-], >= 1; default 3.
+    hf_floor : float, optional
+        rms [in/s**2] of the high-passed acceleration a growth must start
+        from; default ten times the run's accelerometer noise, at least ten
+        times the default's (2.59 in/s**2,
+        :func:`~impedance_mil.lab.oscillation.default_floor`).
     """
 
     stroke: float = 3.0
@@ -247,6 +285,11 @@ class SafetyLimits:
     interlock_window: float = 0.25
     acceleration: float | None = None
     pressure: float | None = None
+    hf_cutoff: float | None = HF_CUTOFF_HZ
+    hf_window: float = HF_WINDOW_S
+    hf_growth: float = HF_GROWTH
+    hf_windows: int = HF_WINDOWS
+    hf_floor: float | None = None
 
     def __post_init__(self):
         for key in ("stroke", "velocity", "valve_saturation_time", "divergence", "interlock_window"):
@@ -262,10 +305,19 @@ class SafetyLimits:
             ("command_slew", "rate [V/s]"),
             ("acceleration", "acceleration [in/s**2]"),
             ("pressure", "pressure [psi]"),
+            ("hf_cutoff", "frequency [Hz]"),
+            ("hf_floor", "acceleration [in/s**2]"),
         ):
             value = getattr(self, key)
             if value is not None and not (np.isfinite(value) and value > 0):
                 raise ConfigError(f"limits.{key}", f"a positive {unit}", value)
+        if not (np.isfinite(self.hf_window) and self.hf_window > 0):
+            raise ConfigError("limits.hf_window", "a positive time [s]", self.hf_window)
+        if not (np.isfinite(self.hf_growth) and self.hf_growth > 1):
+            raise ConfigError("limits.hf_growth", "a ratio above 1", self.hf_growth)
+        windows = self.hf_windows
+        if isinstance(windows, bool) or not float(windows).is_integer() or not windows >= 1:
+            raise ConfigError("limits.hf_windows", "a whole number of windows >= 1", windows)
 
     @classmethod
     def disabled(cls) -> SafetyLimits:
@@ -279,10 +331,15 @@ class SafetyLimits:
             valve_duty=1.0,
             valve_current=1e12,
             command_slew=1e15,
+            hf_cutoff=None,
         )
 
-    def kernel_values(self, table) -> LimitValues:
-        """The thresholds for ``table`` (a NonlinearTable: it sets the default force, current and slew)."""
+    def kernel_values(self, table, accel_noise: float | None = None) -> LimitValues:
+        """The thresholds for ``table`` (a NonlinearTable: it sets the default force, current and slew).
+
+        ``accel_noise`` [in/s**2 rms] is the run's accelerometer noise
+        (:func:`accelerometer_noise`), which sets the default ``hf_floor``.
+        """
         force = 0.95 * table.max_force if self.actuator_force is None else self.actuator_force
         current = table.spool_limit if self.valve_current is None else self.valve_current
         full_scale = 2.0 * np.pi * OSCILLATION_HZ * table.valve_command_limit / np.sqrt(2.0)
@@ -299,7 +356,27 @@ class SafetyLimits:
             interlock_window=float(self.interlock_window),
             acceleration=math.inf if self.acceleration is None else float(self.acceleration),
             pressure=math.inf if self.pressure is None else float(self.pressure),
+            **self.hf_values(table.loop_time, accel_noise),
         )
+
+    def hf_detector(self, loop_time: float) -> HighPass:
+        """The detector's high-pass at the loop time ``loop_time`` [s] (:data:`HIGHPASS_OFF` when off)."""
+        if self.hf_cutoff is None:
+            return HIGHPASS_OFF
+        return highpass_coefficients(float(self.hf_cutoff), float(loop_time), float(self.hf_window))
+
+    def hf_values(self, loop_time: float, accel_noise: float | None = None) -> dict:
+        """The detector's fields of :class:`LimitValues` at the loop time ``loop_time`` [s].
+
+        ``accel_noise`` [in/s**2 rms]: the accelerometer's noise, for the
+        default floor (:func:`~impedance_mil.lab.oscillation.default_floor`).
+        """
+        return {
+            "hf_filter": self.hf_detector(loop_time),
+            "hf_growth": float(self.hf_growth),
+            "hf_windows": int(self.hf_windows),
+            "hf_floor": default_floor(accel_noise) if self.hf_floor is None else float(self.hf_floor),
+        }
 
     def to_dict(self) -> dict:
         return asdict(self)

@@ -26,6 +26,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..specimens.sensors import QUANTITIES
+from .oscillation import HighPass
 
 # Slots of the true quantities the sensors measure (the order of QUANTITIES).
 Q_Z = QUANTITIES.index("table_acceleration")
@@ -215,7 +216,12 @@ class LimitValues(NamedTuple):
     ``valve_current`` [mA rms], ``command_slew`` [V/s rms] and their averaging
     time ``interlock_window`` [s], measured table ``acceleration`` [in/s^2] and
     measured differential ``pressure`` [psi] (inf: no such interlock; see
-    :class:`~impedance_mil.lab.setup.SafetyLimits`).
+    :class:`~impedance_mil.lab.setup.SafetyLimits`), and the high-frequency
+    instability detector (:mod:`impedance_mil.lab.oscillation`): its high-pass
+    ``hf_filter`` (a :class:`~impedance_mil.lab.oscillation.HighPass`; 0 loops
+    in a window: off), the window-to-window rms ratio ``hf_growth`` [-], the
+    count of consecutive growing windows ``hf_windows`` [-] and the ``hf_floor``
+    [in/s^2] the growth must start from.
     """
 
     stroke: float
@@ -229,6 +235,28 @@ class LimitValues(NamedTuple):
     interlock_window: float
     acceleration: float
     pressure: float
+    hf_filter: HighPass
+    hf_growth: float
+    hf_windows: int
+    hf_floor: float
+
+
+#: Fields of the high-frequency instability detector's state, in :data:`HELD_STATE` and
+#: :data:`LTI_HELD_STATE` alike (:func:`impedance_mil.lab.kernels.hf_oscillation_check`): the
+#: high-pass's last two inputs ``hf_x1``, ``hf_x2`` and outputs ``hf_y1``, ``hf_y2`` [in/s^2],
+#: the sum of squares ``hf_sum`` [(in/s^2)^2] and loop count ``hf_n`` of the current window,
+#: the previous window's rms ``hf_prev`` [in/s^2] and the count ``hf_count`` of consecutive
+#: growing windows.
+HF_STATE_FIELDS = [
+    ("hf_x1", np.float64),
+    ("hf_x2", np.float64),
+    ("hf_y1", np.float64),
+    ("hf_y2", np.float64),
+    ("hf_sum", np.float64),
+    ("hf_n", np.int64),
+    ("hf_prev", np.float64),
+    ("hf_count", np.int64),
+]
 
 
 #: What the virtual plant carries from one stage, or loop, to the next (a one-element
@@ -240,7 +268,8 @@ class LimitValues(NamedTuple):
 #: (``VirtualPlant.output_line``), the true ``z`` [in/s^2] and ``w`` [lbf] of this loop's sensing, and the
 #: running averages of the valve interlocks (exponentially weighted over
 #: ``LimitValues.interlock_window``): ``duty`` (fraction of loops saturated),
-#: ``current_sq`` [mA^2] and ``slew_sq`` [(V/s)^2] (the command's loop-to-loop change).
+#: ``current_sq`` [mA^2] and ``slew_sq`` [(V/s)^2] (the command's loop-to-loop change);
+#: then the :data:`HF_STATE_FIELDS`.
 HELD_STATE = np.dtype(
     [
         ("x_prev", np.float64),
@@ -254,7 +283,8 @@ HELD_STATE = np.dtype(
         ("current_sq", np.float64),
         ("slew_sq", np.float64),
         ("head", np.int64),
-    ],
+    ]
+    + HF_STATE_FIELDS,
     align=True,
 )
 
@@ -331,7 +361,7 @@ class LTIArrays(NamedTuple):
 #: What an LTI plant carries between stages and loops (cf. :data:`HELD_STATE`): the
 #: command ``u`` [in] the model receives this loop (after the output delay), the true
 #: ``x`` [in], ``v`` [in/s], ``z`` [in/s^2], ``dp`` [psi] and ``w`` [lbf] of this
-#: loop's sensing, and the ``head`` of the output delay's ring buffer.
+#: loop's sensing, the ``head`` of the output delay's ring buffer, then the :data:`HF_STATE_FIELDS`.
 LTI_HELD_STATE = np.dtype(
     [
         ("u", np.float64),
@@ -341,7 +371,8 @@ LTI_HELD_STATE = np.dtype(
         ("dp", np.float64),
         ("w", np.float64),
         ("head", np.int64),
-    ],
+    ]
+    + HF_STATE_FIELDS,
     align=True,
 )
 

@@ -12,7 +12,11 @@ message).
 The names are those run files have always carried (``"stroke"``,
 ``"velocity"``, ``"actuator_force"``, ``"valve_saturation"``, ``"nan"``,
 ``"divergence"``; since issue 18 also ``"valve_duty"``, ``"valve_current"`` and
-``"command_oscillation"``; since issue 12 ``"acceleration"`` and ``"pressure"``, see :class:`~impedance_mil.lab.setup.SafetyLimits`): :attr:`TripCause.label` is the member's name in lower
+``"command_oscillation"``; since issue 12 ``"acceleration"`` and ``"pressure"``; since issue 17
+``"hf_oscillation"``, the growing high-frequency oscillation of
+:mod:`impedance_mil.lab.oscillation`, whose value is the rms [in/s**2] of the
+high-passed measured acceleration over the window that tripped; see
+:class:`~impedance_mil.lab.setup.SafetyLimits`): :attr:`TripCause.label` is the member's name in lower
 case, so a new cause is one line of the enumeration (its code and the unit of
 the value it reports), plus the check that raises it.
 """
@@ -49,6 +53,7 @@ class TripCause(IntEnum):
     COMMAND_OSCILLATION = 9, "V/s"
     ACCELERATION = 10, "in/s**2"
     PRESSURE = 11, "psi"
+    HF_OSCILLATION = 12, "in/s**2"
 
     unit: str
 

@@ -128,27 +128,32 @@ def _array(values) -> str:
 
 
 def transfer_function_toml(
-    fit: RationalFit,
+    fits: Mapping[str, RationalFit],
     *,
     output: str,
-    input: str,
     units: dict[str, str],
     loop_time: float,
     header: Sequence[str] = (),
+    capacity: TableCapacity | None = None,
 ) -> str:
     """The text of a transfer-function table file (issue 13's layout) holding ``H_<output><input>``.
 
     Parameters
     ----------
-    fit : RationalFit
-        The model, s in rad/s, internal units.
-    output, input : str
-        Names of the output and input (``"z"``, ``"u"``).
+    fits : mapping of str to RationalFit
+        The model of each input path (``{"u": ..., "w": ...}``), s in rad/s, internal units.
+    output : str
+        Name of the output (``"z"``).
     units : dict
         Unit of each signal named in the polynomials (``{"z": "in/s**2", "u": "in"}``).
     loop_time : float
         Controller loop time of the test [s]; the measured response includes
         the loop's delay (``delay = "included"``).
+    header : sequence of str
+        Comment lines at the top of the file.
+    capacity : TableCapacity, optional
+        The table's capacity, written as the ``[capacity]`` section (what the
+        virtual lab and the generated code's limits need beside the model).
     """
     unit_text = ", ".join(f'{k} = "{v}"' for k, v in units.items())
     return (
@@ -158,8 +163,21 @@ def transfer_function_toml(
         + 'delay = "included"\n'
         + f'loop_time = "{loop_time!r} s"\n'
         + f"units = {{ {unit_text} }}\n"
-        + f"H_{output}{input} = {{ num = {_array(fit.num)}, den = {_array(fit.den)} }}\n"
+        + "".join(
+            f"H_{output}{name} = {{ num = {_array(fit.num)}, den = {_array(fit.den)} }}\n"
+            for name, fit in fits.items()
+        )
+        + _capacity_text(capacity)
     )
+
+
+def _capacity_text(capacity: TableCapacity | None) -> str:
+    """The ``[capacity]`` section of ``capacity`` (internal units), or nothing."""
+    stated = {} if capacity is None else capacity.stated()
+    if not stated:
+        return ""
+    lines = ["", "[capacity]", *(f'{k} = "{v!r} {_CAPACITY_FILE_UNITS[k]}"' for k, v in stated.items())]
+    return "\n".join(lines) + "\n"
 
 
 #: Internal unit of each signal as written in a table file's ``units``.
@@ -216,11 +234,7 @@ def lti_table_toml(table: LTITable, kind: str | None = None, header: Sequence[st
                         f"H_{o}{i} = {{ zeros = {_pairs(_conjugate(H.zeros()))}, "
                         f"poles = {_pairs(_conjugate(H.poles()))}, gain = {float(H.num[0])!r} }}"
                     )
-    stated = table.capacity.stated()
-    if stated:
-        lines += ["", "[capacity]"]
-        lines += [f'{k} = "{v!r} {_CAPACITY_FILE_UNITS[k]}"' for k, v in stated.items()]
-    return _comment(header) + "\n".join(lines) + "\n"
+    return _comment(header) + "\n".join(lines) + "\n" + _capacity_text(table.capacity)
 
 
 #: Internal unit of each ``[capacity]`` key as written in a table file.

@@ -108,6 +108,9 @@ _KEY_PATTERNS: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"^(Kp(_.*)?|.*_Kp)$"), "volt / psi"),
     (re.compile(r"^pgv_in_s(_.*)?$"), "inch / second"),
     (re.compile(r"^pgd_in(_.*)?$"), "inch"),
+    (re.compile(r"^.*_loops$"), "loops"),  # a delay in controller loops (``extra_delay_loops``)
+    # min Re 1/H_vw of a controlled table: an equivalent damping (design/optimized/indices.py)
+    (re.compile(r"^passivity_index$"), "force_pound * second / inch"),
 )
 
 #: Keys of pure numbers: errors and ratios, counts, seeds, orders, flags as numbers.

@@ -193,7 +193,8 @@ def write_drive(
     Parameters
     ----------
     directory : str or Path
-        An existing folder.
+        The folder to write into: an existing one, or a new one in an existing
+        folder (created here, and removed again if the write fails).
     kind : {"multisine", "motion"}
     values : ndarray
         The signal at the loop rate, internal units (``u`` [in] or ``a_g`` [in/s^2]).
@@ -218,8 +219,7 @@ def write_drive(
     if file_format not in FILE_FORMATS:
         raise ConfigError("--format", "one of " + ", ".join(FILE_FORMATS), file_format)
     folder = Path(directory)
-    if not folder.is_dir():
-        raise ConfigError("-o", "an existing folder", str(folder))
+    check_drive_folder(folder)
     channel = KINDS[kind]
     factor = unit_factor(channel, unit)
     data_path, meta_path = folder / f"{kind}.csv", folder / f"{kind}.json"
@@ -228,6 +228,59 @@ def write_drive(
             raise ConfigError(
                 "-o", f"a folder without {path.name} (or --overwrite to replace it)", str(folder)
             )
+    created = not folder.exists()
+    if created:
+        folder.mkdir()
+    try:
+        return _write_drive_files(
+            folder,
+            kind,
+            channel,
+            values,
+            sample_rate_hz,
+            unit,
+            factor,
+            file_format,
+            multisine,
+            motion,
+            provenance,
+        )
+    except BaseException:
+        if created:  # nothing half-written: the folder this call made goes with its files
+            for path in (data_path, meta_path):
+                path.unlink(missing_ok=True)
+            folder.rmdir()
+        raise
+
+
+def check_drive_folder(folder: Path) -> None:
+    """Refuse an output path that is neither a folder nor a new name in an existing folder.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``-o``.
+    """
+    if folder.is_dir() or (not folder.exists() and folder.parent.is_dir()):
+        return
+    raise ConfigError("-o", "a folder, or a new folder's name in an existing folder", str(folder))
+
+
+def _write_drive_files(
+    folder: Path,
+    kind: str,
+    channel: str,
+    values: Any,
+    sample_rate_hz: float,
+    unit: str,
+    factor: float,
+    file_format: str,
+    multisine: Mapping[str, Any] | None,
+    motion: Mapping[str, Any] | None,
+    provenance: Mapping[str, Any] | None,
+) -> DriveFile:
+    """Write the data file, then the metadata (the data file removed if the metadata fails)."""
+    data_path, meta_path = folder / f"{kind}.csv", folder / f"{kind}.json"
     header = None if file_format == "rmc75e" else f"time_s,{channel}_{unit.replace(' ', '')}"
     atomic_write_text(data_path, _data_text(np.asarray(values, float) / factor, sample_rate_hz, header))
     drive = DriveFile(

@@ -57,6 +57,7 @@ def _numbers(doc, path=""):
         ("motion", "check", "elcentro", "--motion-units", "g0"),
         ("motion", "spectrum", "elcentro", "--motion-units", "g0"),
         ("design", "-o", "{tmp}/d.json"),
+        ("design", "--vs", "SD2", "--fc", "80"),  # passivity_index [lbf*s/in] is a number with a VS
         ("drive", "multisine", "-o", "{tmp}"),
         ("campaign", "plan", "report-sec9", "--reduced"),
     ],

@@ -19,8 +19,15 @@ from .conftest import report_parameters
 #: Codes and names of the run files written before the enumeration (main at dc9ba1a,
 #: lab.kernels.TRIP_NAMES): old files must keep loading.
 FILE_NAMES = ("", "stroke", "velocity", "actuator_force", "valve_saturation", "nan", "divergence")
-#: Causes added since (issue 18): new codes after the old ones, so the old codes keep their meaning.
-NEW_NAMES = ("valve_duty", "valve_current", "command_oscillation", "acceleration", "pressure")
+#: Causes added since (issues 18, 12, 17): new codes after the old ones, so the old codes keep their meaning.
+NEW_NAMES = (
+    "valve_duty",
+    "valve_current",
+    "command_oscillation",
+    "acceleration",
+    "pressure",
+    "hf_oscillation",
+)
 
 
 @pytest.fixture(scope="module")

@@ -1,0 +1,91 @@
+"""Robust stability of a lab's test: its design over the lab's ``[uncertainty]`` set (issue 17, item 3).
+
+:func:`test_robustness` answers, before a run, whether the controller of a
+tracking or MIL test stays stable with the test's article for every table in
+the lab's uncertainty set (:func:`impedance_mil.design.robust.robust_margins`);
+:func:`lab_article` is the article of a lab file (``imil design --robust``);
+:func:`sampled_test` is the same test on the table of one point of the set,
+with the controller still the nominal one (``imil simulate --robust N``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+
+from ..design import virtual_model
+from ..design.forms import VirtualModel
+from ..design.robust import DEFAULT_LHS_SAMPLES, RobustMargins, robust_margins
+from ..errors import ConfigError
+from ..plant import TableParameters
+from ..plant.uncertainty import UncertaintySet
+from ..report_config import report_config
+from ..systems import TransferFunction
+from .choices import Choices, choose_specimen, with_lab_defaults
+from .descriptions import SpecimenChoice, TrackingTest
+from .labfile import LabSetup
+
+
+def lab_article(setup: LabSetup) -> SpecimenChoice:
+    """The article of a lab file's ``[specimen]`` (the report's vessel for ``--lab report``)."""
+    choices = with_lab_defaults(Choices(lab=str(setup.path)), setup)
+    return choose_specimen(choices, report_config(), {}, default_kind="none")
+
+
+def article_impedance(specimen: SpecimenChoice) -> TransferFunction:
+    """The article's impedance ``w/z`` [lbf per in/s**2] (zero for the bare table)."""
+    if specimen.specimen is None:
+        return TransferFunction.constant(0.0)
+    return specimen.specimen.impedance()
+
+
+def test_vs_model(test: TrackingTest) -> VirtualModel | None:
+    """The VS model a test's design answers to: the run's (``open-fh``, as ``lab.experiments.mil_design``)."""
+    return None if test.vs is None else virtual_model(test.vs, linearization="open-fh")
+
+
+def require_uncertainty(uncertainty: UncertaintySet | None, option: str) -> UncertaintySet:
+    """The lab's set, or a ConfigError naming ``option`` when the lab has no ``[uncertainty]``."""
+    if uncertainty is None:
+        raise ConfigError(option, "a lab file (--lab FILE) with an [uncertainty] section")
+    return uncertainty
+
+
+def test_robustness(
+    test: TrackingTest, *, samples: int = DEFAULT_LHS_SAMPLES, seed: int = 0
+) -> RobustMargins | None:
+    """The worst-case margins of ``test``'s design with its article over its lab's set (None: no set).
+
+    Raises
+    ------
+    ConfigError
+        The test's table is an LTI table (no parameters to vary).
+    """
+    if test.lab.uncertainty is None:
+        return None
+    if not isinstance(test.table, TableParameters):
+        raise ConfigError("uncertainty", "a physical table (an LTI table has no parameters to vary)")
+    return robust_margins(
+        test.design,
+        test.table,
+        test_vs_model(test),
+        test.lab.uncertainty,
+        article_impedance(test.specimen),
+        test.specimen.label,
+        samples=samples,
+        seed=seed,
+    )
+
+
+def sampled_test(test: TrackingTest, point: Mapping[str, float]) -> TrackingTest:
+    """``test`` on the table of ``point`` of its lab's set, run with the nominal design (a real table's case).
+
+    The controller is the one designed for the nominal table (``test.design``);
+    the virtual table, and the output delay of the lab's loop, are those of the point.
+    """
+    uncertainty = require_uncertainty(test.lab.uncertainty, "uncertainty")
+    if not isinstance(test.table, TableParameters):
+        raise ConfigError("uncertainty", "a physical table (an LTI table has no parameters to vary)")
+    table = uncertainty.apply(test.table, point)
+    lab = dataclasses.replace(test.lab, output_delay=table.output_delay_loops)
+    return dataclasses.replace(test, table=table, lab=lab, given_design=test.design)
