@@ -30,7 +30,7 @@ from typing import Any
 
 import typer
 
-from ..config import parse_overrides
+from ..config import parse_overrides, quantity
 from ..design import DesignCriteria, design_controller, save_design, table_model, virtual_model
 from ..design.constraints import PASSIVITY_MODELS
 from ..design.controller import ControllerDesign
@@ -40,6 +40,14 @@ from ..design.forms import FORMS, TableModel, VirtualModel
 from ..design.linearize import DEFAULT_AMPLITUDE_IN, METHODS
 from ..design.measured import CONTROLLER_MODELS, TOLERANCES, check_loop_time, design_measured_checks
 from ..design.optimized import OptimizationSettings, design_optimized, with_indices
+from ..design.optimized.amplitudes import (
+    HYSTERETIC_KINDS,
+    VS_MODELS,
+    amplitude_certificate,
+    check_amplitude_range,
+    summary,
+    with_amplitude_certificate,
+)
 from ..design.robust import DEFAULT_LHS_SAMPLES, robust_margins
 from ..display import UnitSystem, display_unit
 from ..errors import ConfigError
@@ -181,6 +189,12 @@ def design(
         "--robust-amplitudes",
         help="Optimized, LR/FP: further DF amplitudes [in] of the robust set.",
     ),
+    amplitude_range: str | None = typer.Option(
+        None,
+        "--amplitude-range",
+        help="LR/FP: certify III over the isolator amplitudes LO:HI [in, or with units: '6 mm:100 mm'] "
+        "(default for --method optimized: the range of --robust-amplitudes and --amplitude).",
+    ),
     grid: int = typer.Option(
         OptimizationSettings().check_per_decade, "--grid", help="Optimized: dense check grid [points/decade]."
     ),
@@ -262,6 +276,7 @@ def design(
     if fc_w is not None and not 0 < fc_w < math.inf:
         raise ConfigError("--fc-w", "a positive cut-off frequency in Hz", fc_w)
     settings, amplitudes = _optimization_options(margin, margin_band, grid, robust_amplitudes, reduce)
+    amp_range = _parse_amplitude_range(amplitude_range)
     fcs = [_DESIGN.fc_hz] if fc is None else _parse_fc(fc)
     band_values = _parse_list("--band", band, 2)
     criteria_given: dict[str, Any] = {
@@ -296,6 +311,14 @@ def design(
         request = MapRequest(params, vs, sets_vs, lin, amplitudes, fcs[0], criteria, settings, from_report)
         run_map(request, map_x or "", map_y, output, json_out, shown)
         return
+    if amp_range is not None and (
+        spec is None or spec.vs.kind not in HYSTERETIC_KINDS or form != "standardized"
+    ):
+        raise ConfigError("--amplitude-range", "an LR or FP VS (--vs) and the standardized form")
+    if amp_range is not None and not isinstance(params, TableParameters):
+        raise ConfigError(
+            "--amplitude-range", "a physical table (the certificate uses its sampled-data model)"
+        )
     vm = virtual_model(spec.vs, spec.name, **lin) if spec is not None else None
     if vm is None and form in ("general", "vs-specific"):
         raise ConfigError("--vs", f"a VS preset or file for the {form} form")
@@ -315,6 +338,9 @@ def design(
         result = _optimized(params, spec, lin, vm, fcs[0], criteria, settings, amplitudes)
         if passivity_model != "first-order":
             result = with_indices(result, params, vm, criteria, warn=False, passivity_model=passivity_model)
+        if amp_range is None and spec.vs.kind in HYSTERETIC_KINDS:  # the range the robust set covers
+            amp_range = (min(amplitudes + [amplitude]), max(amplitudes + [amplitude]))
+        result = _with_certificate(result, params, spec, amp_range, criteria, linearization)
         measured = _measured_checks(result, measured_frf, None, vm, frf_kw)
         if output is not None:
             save_design(result, output)
@@ -348,6 +374,7 @@ def design(
         )
     if isinstance(params, TableParameters):  # the sampled-data indices need the physical table
         result = with_indices(result, params, vm, criteria, warn=False, passivity_model=passivity_model)
+        result = _with_certificate(result, params, spec, amp_range, criteria, linearization)
     robustness = None
     if setup is not None and isinstance(params, TableParameters) and setup.uncertainty is not None:
         article = lab_article(setup)
@@ -417,6 +444,30 @@ def _robust_lab(
     setup = load_lab(lab, table=table, overrides=parse_overrides(sets)) if lab or table else None
     require_uncertainty(None if setup is None else setup.uncertainty, "--robust")
     return setup
+
+
+def _parse_amplitude_range(text: str | None) -> tuple[float, float] | None:
+    """``"LO:HI"`` (in, or quantities with a length unit) -> ``(A_min, A_max)`` [in]; None without the option."""
+    if text is None:
+        return None
+    parts = text.split(":")
+    if len(parts) != 2:
+        raise ConfigError(
+            "--amplitude-range", "LO:HI, two amplitudes in in or with a unit ('6 mm:100 mm')", text
+        )
+    lo, hi = (quantity("--amplitude-range", p.strip(), "inch", "positive") for p in parts)
+    with option_errors({"amplitude_range": "--amplitude-range"}):
+        return check_amplitude_range((lo, hi))
+
+
+def _with_certificate(result, params, spec: VSSpec | None, amp_range, criteria, linearization: str):
+    """``result`` with the amplitude certificate of III over ``amp_range`` [in] (unchanged without a range),
+    on the ``--linearization`` model (the DF for ``open-fh``: the real isolator is hysteretic)."""
+    if amp_range is None or spec is None:
+        return result
+    model = linearization if linearization in VS_MODELS else "describing-function"
+    cert = amplitude_certificate(result, params, spec.vs, amp_range, criteria=criteria, vs_model=model)
+    return with_amplitude_certificate(result, cert)
 
 
 def _read_frf(path: Path | None, tolerance: str, controller: str, loop_time_s: float) -> FRFTable | None:
@@ -615,6 +666,8 @@ def _print_human(result, reasons, study, written, measured=(), units: UnitSystem
     for checks in measured:
         for line in checks.lines():
             console.print(line, markup=False, highlight=False)
+    if result.amplitude_certificate is not None and result.amplitude_certificate["certified"]:
+        console.print("  " + summary(result.amplitude_certificate))
     for text in result.warnings:
         console.print(f"[yellow]warning:[/] {text}")
     for path in written:

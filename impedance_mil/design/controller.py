@@ -114,6 +114,9 @@ class ControllerDesign:
     optimization : mapping or None
         The solver's report of an optimized design (:mod:`impedance_mil.design.optimized`);
         None for a filter design.
+    amplitude_certificate : mapping or None
+        Constraint III of an LR/FP design over a range of isolator amplitudes
+        (:mod:`impedance_mil.design.optimized.amplitudes`), when computed.
     capacity : mapping
         Stated capacity of a table given as a linear model (``TableModel.capacity``,
         internal units); empty for a physical table.
@@ -138,6 +141,7 @@ class ControllerDesign:
     vs: Mapping[str, Any] | None = None
     software_version: str = __version__
     optimization: Mapping[str, Any] | None = None
+    amplitude_certificate: Mapping[str, Any] | None = None
     capacity: Mapping[str, float] = field(default_factory=dict)
     table_paths: Mapping[str, TransferFunction] = field(default_factory=dict)
 
@@ -170,6 +174,11 @@ class ControllerDesign:
                 {}
                 if self.optimization is None
                 else {"method": "optimized", "optimization": self.optimization}
+            ),
+            **(
+                {}
+                if self.amplitude_certificate is None
+                else {"passivity_amplitude_certificate": self.amplitude_certificate}
             ),
         }
 

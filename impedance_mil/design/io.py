@@ -113,6 +113,8 @@ def design_to_dict(design: ControllerDesign) -> dict[str, Any]:
     )
     if design.optimization is not None:
         doc.update({"method": "optimized", "optimization": body["optimization"]})
+    if design.amplitude_certificate is not None:
+        doc["passivity_amplitude_certificate"] = body["passivity_amplitude_certificate"]
     return json_safe(doc)
 
 
@@ -233,7 +235,15 @@ def _design(doc: dict[str, Any]) -> ControllerDesign:
         vs=_vs_entry(doc["vs"]),
         software_version=_string("software_version", doc["software_version"]),
         optimization=doc.get("optimization") if doc["version"] == VERSION_OPTIMIZED else None,
+        amplitude_certificate=_amplitude_certificate(doc.get("passivity_amplitude_certificate")),
     )
+
+
+def _amplitude_certificate(value: Any) -> dict[str, Any] | None:
+    """The optional ``passivity_amplitude_certificate`` block (an object, kept as it is, or absent)."""
+    if value is not None and not isinstance(value, dict):
+        raise ConfigError("passivity_amplitude_certificate", "an object or null", _shown(value))
+    return value
 
 
 #: Longest value echoed in a message [characters].

@@ -185,6 +185,14 @@ def harmonic_cycle(vs, amplitude_in: float, frequency_hz: float) -> HarmonicCycl
     )
 
 
+def interpolate_stiffness(grid_hz: np.ndarray, stiffness_grid: np.ndarray, f_hz) -> np.ndarray:
+    """A tabulated describing function ``N`` [lbf/in] at ``f_hz`` [Hz]: real and imaginary parts
+    interpolated linearly in log-frequency on ``grid_hz`` [Hz], held constant beyond its ends."""
+    lf = np.log10(np.clip(np.asarray(f_hz, dtype=float), grid_hz[0], grid_hz[-1]))
+    g = np.log10(grid_hz)
+    return np.interp(lf, g, stiffness_grid.real) + 1j * np.interp(lf, g, stiffness_grid.imag)
+
+
 @dataclass(frozen=True)
 class EquivalentLinearization:
     """A hysteretic VS linearized at a design amplitude (see the module docstring).
@@ -227,9 +235,7 @@ class EquivalentLinearization:
 
     def stiffness(self, f_hz) -> np.ndarray:
         """Describing function ``N(D, 2 pi f)`` [lbf/in] at ``f_hz`` [Hz] (log-frequency interpolation)."""
-        lf = np.log10(np.clip(np.asarray(f_hz, dtype=float), self.grid_hz[0], self.grid_hz[-1]))
-        g = np.log10(self.grid_hz)
-        return np.interp(lf, g, self.stiffness_grid.real) + 1j * np.interp(lf, g, self.stiffness_grid.imag)
+        return interpolate_stiffness(self.grid_hz, self.stiffness_grid, f_hz)
 
     def frequency_response(self, f_hz) -> np.ndarray:
         """Equivalent impedance ``z_vs/w`` [in/s**2 per lbf] at ``f_hz`` [Hz] for this method."""

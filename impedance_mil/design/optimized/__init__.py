@@ -7,6 +7,7 @@
 See :func:`design_optimized` and docs/design.md, "Optimized design".
 """
 
+from .amplitudes import AmplitudeCertificate, amplitude_certificate, with_amplitude_certificate
 from .basis import DEFAULT_GROUPS_HZ, PoleBasis, butterworth_poles, default_basis
 from .certify import Certificate, certify
 from .design import design_optimized
@@ -14,6 +15,9 @@ from .indices import passivity_index, sampled_margin_deg, with_indices
 from .problem import MISSING_SOLVER, OptimizationSettings
 
 __all__ = [
+    "AmplitudeCertificate",
+    "amplitude_certificate",
+    "with_amplitude_certificate",
     "DEFAULT_GROUPS_HZ",
     "MISSING_SOLVER",
     "Certificate",
