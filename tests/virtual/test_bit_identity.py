@@ -1,10 +1,19 @@
 """The kernels derived from the SD, LR and FP definitions reproduce the hand-written ones bit for bit.
 
 Reference: ``tests/data/vs_handwritten_kernels_dc9ba1a.npz``, recorded from the
-hand-written numba kernels of commit dc9ba1a (tests/data/PROVENANCE.md).  Every
-array must be identical (float64): simulation histories, linear-part
-coefficients, describing-function points, equivalent linearization, and the
-MIL runtime's VS (its z_vs does not depend on the controller for a given w).
+hand-written numba kernels of commit dc9ba1a (tests/data/PROVENANCE.md): simulation
+histories, linear-part coefficients, describing-function points, equivalent
+linearization, and the MIL runtime's VS (its z_vs does not depend on the controller
+for a given w).
+
+Two of the recorded quantities go through numpy/scipy routines whose round-off
+changes between library versions: ``scipy.signal.ss2tf`` (the recorded conversion
+of the linear part) and the first Fourier coefficient of the describing function
+(``np.mean`` of ``force * exp(-j phase)``, whose summation numpy may reorder).
+They were identical with the libraries of the recording; with scipy 1.17.1 and numpy 2.4.6 (a fresh
+install on 2026-12-04) they differ by 1.8e-16 and 1.3e-15 relative, so they are
+compared to :data:`LIBRARY_RTOL`.  The simulation histories and the runtime's VS,
+the kernels themselves, stay bit for bit.
 
 The linear-part coefficients were recorded through the conversion of that
 commit (``scipy.signal.ss2tf``); the toolkit now converts with
@@ -30,6 +39,10 @@ from impedance_mil.systems import TransferFunction
 from impedance_mil.virtual import presets
 from impedance_mil.virtual.structure import linear_matrices
 from impedance_mil.virtual.system import _drop_residue
+
+#: Relative tolerance of the quantities computed through library routines whose round-off
+#: depends on the numpy/scipy version (16 ulp; measured 1.8e-16 and 1.3e-15, see above).
+LIBRARY_RTOL = 4e-15
 
 DATA = np.load(Path(__file__).resolve().parents[1] / "data" / "vs_handwritten_kernels_dc9ba1a.npz")
 
@@ -59,7 +72,9 @@ def test_simulation_and_linear_part_are_bit_identical(name):
             continue
         for part in ("num", "den"):
             ref = DATA[f"{name}/lp/{key}/{part}"]
-            np.testing.assert_array_equal(np.asarray(getattr(recorded[key], part), float), ref)
+            np.testing.assert_allclose(
+                np.asarray(getattr(recorded[key], part), float), ref, rtol=LIBRARY_RTOL, atol=0
+            )
             # ss_to_tf: same degrees and exact zeros, coefficients within 2e-14 relative
             # (measured 1.0e-14, the damping term of LR2's denominator, where ss_to_tf gives
             # c/m within 1.3e-16 for H_zw and the recorded conversion 1.0e-14).
@@ -88,15 +103,18 @@ def _linear_part_as_recorded(vs):
 
 
 @pytest.mark.parametrize("name", ["LR2", "FP2"])
-def test_describing_function_is_bit_identical(name):
+def test_describing_function_matches_the_recording(name):
     vs = presets.get(name)
     for amp in (0.3, 1.0, 3.0):
         got = np.array([harmonic_cycle(vs, amp, f).stiffness for f in (0.1, 1.0, 10.0)])
-        np.testing.assert_array_equal(got, DATA[f"{name}/df/{amp}"])
+        np.testing.assert_allclose(got, DATA[f"{name}/df/{amp}"], rtol=LIBRARY_RTOL, atol=0)
     eq = equivalent_linearization(vs, 1.0)
-    np.testing.assert_array_equal(eq.stiffness_grid, DATA[f"{name}/eq/grid"])
-    np.testing.assert_array_equal(
-        np.array([eq.effective_hz, eq.k_eff, eq.beta_eff, eq.c_eq]), DATA[f"{name}/eq/scalars"]
+    np.testing.assert_allclose(eq.stiffness_grid, DATA[f"{name}/eq/grid"], rtol=LIBRARY_RTOL, atol=0)
+    np.testing.assert_allclose(
+        np.array([eq.effective_hz, eq.k_eff, eq.beta_eff, eq.c_eq]),
+        DATA[f"{name}/eq/scalars"],
+        rtol=LIBRARY_RTOL,
+        atol=0,
     )
 
 
