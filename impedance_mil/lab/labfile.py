@@ -547,7 +547,8 @@ def _limits(
         if "hf_windows" in keys:
             keys["hf_windows"] = int(keys["hf_windows"])  # a whole number (the field is read as one)
         limits = SafetyLimits(stroke=stroke, velocity=velocity, divergence=divergence, **keys)
-        limits.hf_detector(controller.loop_time)  # a cutoff above Nyquist is refused here, naming the key
+        if controller.loop_time > 0:  # an analog table (loop time 0) has no loop to run the detector in
+            limits.hf_detector(controller.loop_time)  # a cutoff above Nyquist is refused, naming the key
     except ConfigError as exc:
         raise ConfigError(f"{where}{exc.key}", exc.expected, exc.got) from None
     return limits, command
