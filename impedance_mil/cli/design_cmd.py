@@ -650,7 +650,7 @@ def _print_human(result, reasons, study, written, measured=(), units: UnitSystem
     if c0 is not None and c0.III_sampled is not None:
         damping = display_unit(INDEX_UNIT, units)
         console.print(
-            f"  III on the design model: {c0.III_design_model}; on the sampled-data table: {c0.III_sampled} "
+            f"  passivity: III on the design model {c0.III_design_model}; on the sampled-data table {c0.III_sampled} "
             f"(margin {c0.passivity_margin_sampled_deg:.2f} deg); passivity index "
             f"{c0.passivity_index * damping.factor:.3g} {damping.name}"
         )

@@ -94,4 +94,4 @@ def test_cli_prints_both_verdicts_and_the_index_in_the_units_asked():
     assert res.exit_code == 0, res.output
     line = next(x for x in res.output.splitlines() if "III on the design model" in x)
     # -1.52 deg measured; -61.1 lbf*s/in = -10.7 kN*s/m (x 0.175127).
-    assert "True; on the sampled-data table: False (margin -1.52 deg)" in line and "-10.7 kN*s/m" in line
+    assert "True; on the sampled-data table False (margin -1.52 deg)" in line and "-10.7 kN*s/m" in line
