@@ -3,16 +3,17 @@
 numba compiles the compiled loop (:data:`impedance_mil.lab.tick.run_loop`) and
 the kernels it inlines once, then loads them from its cache: the first run after
 an install (or after the cache was cleared, or with a new ``NUMBA_CACHE_DIR``)
-takes a minute or more of compiling (81 s wall on the 2-core CI machine under
-load, measured with an empty ``NUMBA_CACHE_DIR``), every later run under a second
-of loading.  A command says so before it starts, instead of seeming to hang
+takes seconds to a minute of compiling (19 s on the 2-core CI machine under
+load, measured with an empty ``NUMBA_CACHE_DIR``; 46-67 s before the loop's
+faster inliner, :mod:`impedance_mil.lab.inline_pipeline`), every later run about
+a second of loading.  A command says so before it starts, instead of seeming to hang
 (issue 16, goal 4), and then says which group of kernels it is compiling
 (:func:`compile_progress`: "compiling kernels (first run only): 3/4 the compiled
 loop ...").
 
 Where the time goes (``benchmarks/bench_first_run.py``, docs/lab.md, "The first
-run"): the compiled loop is about 80 % of it, and within it numba's IR inliner
-(``inline="always"`` kernels are deep-copied at every call site) about 60 %.
+run"): the compiled loop is about 70 % of it (its LLVM code and its IR inlining
+about a third each), the spectra's kernels about 17 %.
 
 The test is whether the loop's cache index exists where numba will look for it.
 numba exposes no public call for that; the index path is read from the
@@ -34,7 +35,7 @@ from .tick import run_loop
 
 #: What a command prints (on stderr) before a run that compiles the kernels.
 COMPILING_NOTICE = (
-    "compiling kernels (first run only: about a minute, then cached; later runs start in under a second)"
+    "compiling kernels (first run only: up to a minute, then cached; later runs start in under a second)"
 )
 
 #: The start of each progress line (then ``k/n label ...``).
@@ -63,7 +64,7 @@ class KernelGroup(NamedTuple):
 KERNEL_GROUPS = (
     KernelGroup("the virtual system's kernels", ("imil_vs_", "impedance_mil.virtual.")),
     KernelGroup("the table's physics", ("impedance_mil.plant.", "impedance_mil.specimens.")),
-    KernelGroup("the compiled loop (the longest step, about a minute)", ("impedance_mil.lab.",)),
+    KernelGroup("the compiled loop (the longest step)", ("impedance_mil.lab.",)),
     KernelGroup("the spectra and other kernels", ("impedance_mil.",)),
 )
 
