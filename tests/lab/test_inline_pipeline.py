@@ -45,7 +45,7 @@ def _masked(llvm: str) -> str:
     """The IR with the per-compile name numbers masked (a mangled name carries the length of "v12"
     too, and so does the constant string that spells it)."""
     text = re.sub(r"(B\d+)?v\d+", "v#", llvm)
-    text = re.sub(r"\[\d+ x i8\] c\"missing Environment", "[n x i8] c\"missing Environment", text)
+    text = re.sub(r"\[\d+ x i8\] c\"missing Environment", '[n x i8] c"missing Environment', text)
     # Block labels come from numba's process-wide label counter: numbered again by first appearance.
     labels: dict[str, str] = {}
     text = re.sub(r" +", " ", text)  # the "; preds" comments are aligned to the label's width
