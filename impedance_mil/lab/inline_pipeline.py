@@ -1,0 +1,72 @@
+"""numba's compiler pipeline for the compiled loop, with a fast IR inliner (issue 16, goal 4).
+
+The loop (:mod:`impedance_mil.lab.tick`) inlines every stage and kernel at numba-IR
+level (``inline="always"``).  numba's ``InlineInlinables`` pass copies the callee's IR
+at every call site with :func:`copy.deepcopy`, block by block, and each copied
+variable drags a copy of the callee's whole variable scope with it: the cost of an
+inline grows as blocks x variables of the callee.  On the first run this pass took
+about 60 % of the compile of the loop (86 s of 127 s, measured with numba's
+``pipeline_times``, benchmarks/bench_first_run.py); it is numba's known issue
+(numba#8989, numba#9204; numba-cuda#689 skips the same copies).
+
+:class:`LoopCompiler` is numba's default nopython pipeline with that one pass
+replaced by :class:`InlineSharingScope`, which runs numba's own pass while a
+:class:`numba.core.ir.Scope` deep-copies to itself.  The copy of a callee made for
+an inline then shares the scope of the callee's IR, which the inliner builds afresh
+for each call site and only reads and extends with the inlined names before it is
+dropped; the caller's IR and its names are the same as with numba's pass, so the
+generated code is the same (the loop's LLVM IR is compared, text for text, in
+``tests/lab/test_inline_pipeline.py``) and the results are bit-identical.  The
+change lasts while the pass runs, which numba's compiler lock keeps to one
+compile at a time; ``pipeline_class`` is numba's public hook for a pipeline.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from numba.core import ir
+from numba.core.compiler import CompilerBase, DefaultPassBuilder
+from numba.core.compiler_machinery import register_pass
+from numba.core.untyped_passes import InlineInlinables
+
+
+@contextmanager
+def scopes_shared_by_deepcopy() -> Iterator[None]:
+    """Within the block, ``copy.deepcopy`` of a numba IR scope returns the scope itself."""
+    had_own = "__deepcopy__" in ir.Scope.__dict__
+    previous = ir.Scope.__dict__.get("__deepcopy__")
+    ir.Scope.__deepcopy__ = lambda self, memo: self
+    try:
+        yield
+    finally:
+        if had_own:
+            ir.Scope.__deepcopy__ = previous
+        else:
+            del ir.Scope.__deepcopy__
+
+
+@register_pass(mutates_CFG=True, analysis_only=False)
+class InlineSharingScope(InlineInlinables):
+    """numba's ``InlineInlinables``, run with IR scopes shared by the inliner's copies."""
+
+    _name = "inline_inlinables_sharing_scope"
+
+    def run_pass(self, state) -> bool:
+        with scopes_shared_by_deepcopy():
+            return super().run_pass(state)
+
+
+class LoopCompiler(CompilerBase):
+    """numba's nopython pipeline with :class:`InlineSharingScope` in place of ``InlineInlinables``."""
+
+    def define_pipelines(self):
+        pm = DefaultPassBuilder.define_nopython_pipeline(self.state)
+        pm.passes = [
+            (InlineSharingScope if cls is InlineInlinables else cls, text) for cls, text in pm.passes
+        ]
+        return [pm]
+
+
+__all__ = ["InlineSharingScope", "LoopCompiler", "scopes_shared_by_deepcopy"]
