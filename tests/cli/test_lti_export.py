@@ -19,33 +19,14 @@ import pytest
 from impedance_mil.design import design_controller, load_design, save_design, table_model, virtual_model
 from impedance_mil.implement.export import controller_from_design
 from impedance_mil.implement.safety import command_limits
+from impedance_mil.lab.identify import implied_capacity
 from impedance_mil.plant import LinearTable, TableParameters
 from impedance_mil.plant.capacity import TableCapacity
 from impedance_mil.plant.lti_table import LTITable
 from impedance_mil.plant.table_files import lti_table_toml, read_table_file
-from impedance_mil.signals.limits import TableLimits
 from impedance_mil.virtual.files import resolve
 
 KINDS = ("transfer-function", "zpk", "state-space")
-
-
-def _capacity(p: TableParameters) -> TableCapacity:
-    own = TableLimits.from_numbers(
-        piston_area=p.piston_area,
-        mid_stroke=p.mid_stroke,
-        table_mass=p.mass,
-        supply_pressure=p.supply_pressure,
-        return_pressure=p.return_pressure,
-        rated_flow=p.rated_flow,
-        rated_pressure_drop=p.rated_pressure_drop,
-    )
-    return TableCapacity(
-        stroke=own.stroke_in,
-        velocity=own.velocity_in_s,
-        force=own.force_lbf,
-        mass=p.mass,
-        piston_area=p.piston_area,
-    )
 
 
 def _lti_file(folder, kind, *, capacity=True, gain=1.0):
@@ -53,7 +34,11 @@ def _lti_file(folder, kind, *, capacity=True, gain=1.0):
     # another table: the proportional gain scaled (the closed loop's paths change)
     model = LinearTable(dataclasses.replace(p, Kp=gain * p.Kp), delay="first-order").state_space()
     table = LTITable(
-        model, p.loop_time, "included", "state-space", capacity=_capacity(p) if capacity else TableCapacity()
+        model,
+        p.loop_time,
+        "included",
+        "state-space",
+        capacity=implied_capacity(p) if capacity else TableCapacity(),
     )
     path = folder / f"{kind}{'' if capacity else '-nocap'}{'' if gain == 1.0 else '-other'}.toml"
     path.write_text(lti_table_toml(table, kind))
