@@ -1,4 +1,4 @@
-"""Benchmark of the virtual lab's compiled loop (goal: >= 500x faster than real time, one core).
+"""Benchmark of the virtual lab's compiled loop (goal: >= 1000x faster than real time, one core).
 
 Case: MIL run of report Section 9 -- El Centro (RSN 6) time-scaled by 2
 (Section 8.2), SD2 virtual system, vessel with 36 in of water, nonlinear
@@ -44,7 +44,8 @@ from impedance_mil.signals import builtin_motion  # noqa: E402
 from impedance_mil.specimens import FluidVessel  # noqa: E402
 from impedance_mil.virtual import presets  # noqa: E402
 
-GOAL = 500.0
+#: Issue 16, goal 3: the default MIL configuration at >= 1000x real time (it was 500x before).
+GOAL = 1000.0
 
 
 def _pin_one_core() -> str:
