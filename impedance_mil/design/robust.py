@@ -318,8 +318,10 @@ def robust_margins(
 
     >>> from impedance_mil.design import design_controller
     >>> from impedance_mil.plant.uncertainty import parse_uncertainty
+    >>> from impedance_mil.report_config import report_config
     >>> p = TableParameters.report_default()
-    >>> d = design_controller(table_model(p), form="tracking", fc_hz=80.0, emit_warnings=False)
+    >>> fc = report_config().design.fc_hz  # the report's cut-off
+    >>> d = design_controller(table_model(p), form="tracking", fc_hz=fc, emit_warnings=False)
     >>> box = parse_uncertainty({"f_oil_hz": "±0 %"}, p)
     >>> r = robust_margins(d, p, None, box, samples=2)
     >>> r.worst_passivity.tolerant_margin_deg == r.nominal.tolerant_margin_deg
