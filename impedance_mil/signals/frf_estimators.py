@@ -29,12 +29,20 @@ SMOOTHING_LINES = 8
 STD_FLOOR = 1e-12
 
 
-def _smoothed(values: np.ndarray, half_width: int) -> np.ndarray:
+def smoothed(values: np.ndarray, half_width: int) -> np.ndarray:
     """Moving mean over ``2 half_width + 1`` neighbours (fewer at the ends)."""
     kernel = np.ones(2 * half_width + 1)
     total = np.convolve(values, kernel, mode="same")
     count = np.convolve(np.ones_like(values), kernel, mode="same")
     return total / count
+
+
+def period_spectra(signal, n_points: int, lines: np.ndarray, discard_periods: int) -> np.ndarray:
+    """The spectra at ``lines`` of each period after the transient, shape (periods, lines)."""
+    x = np.asarray(signal, dtype=float)[discard_periods * n_points :]
+    if x.size == 0 or x.size % n_points:
+        raise ConfigError("frf.n_points", f"records of a whole number of {n_points}-sample periods")
+    return np.fft.rfft(x.reshape(-1, n_points), axis=1)[:, lines]
 
 
 def synchronous_frf(u, y, n_points: int, sample_rate_hz: float, lines, discard_periods: int = 1) -> FRF:
@@ -69,15 +77,14 @@ def synchronous_frf(u, y, n_points: int, sample_rate_hz: float, lines, discard_p
     if h1.n_averages < 2:
         raise ConfigError("frf.n_periods", "at least two periods after the transient (a noise estimate)")
     lines = np.asarray(lines, dtype=int)
-    start = discard_periods * n_points
-    U = np.fft.rfft(np.asarray(u, float)[start:].reshape(-1, n_points), axis=1)[:, lines]
-    Y = np.fft.rfft(np.asarray(y, float)[start:].reshape(-1, n_points), axis=1)[:, lines]
+    U = period_spectra(u, n_points, lines, discard_periods)
+    Y = period_spectra(y, n_points, lines, discard_periods)
     u_mean, y_mean = U.mean(axis=0), Y.mean(axis=0)
     h = y_mean / u_mean
     p = U.shape[0]
     residual = Y - h * U
     noise_var = np.sum(np.abs(residual) ** 2, axis=0) / (p - 1)
-    noise_var = _smoothed(noise_var, SMOOTHING_LINES)
+    noise_var = smoothed(noise_var, SMOOTHING_LINES)
     std = np.maximum(np.sqrt(noise_var / (p * np.abs(u_mean) ** 2)), STD_FLOOR * np.abs(h))
     return FRF(h1.frequency_hz, h, h1.coherence, p, std)
 

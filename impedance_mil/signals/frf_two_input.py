@@ -38,7 +38,7 @@ import numpy as np
 
 from ..errors import ConfigError
 from .frf import FRF
-from .frf_estimators import SMOOTHING_LINES, STD_FLOOR, _smoothed
+from .frf_estimators import SMOOTHING_LINES, STD_FLOOR, period_spectra, smoothed
 
 #: Largest condition number of the normalized inputs at a line: beyond it the two
 #: tests do not separate the paths (their ``W/U`` are too alike).
@@ -66,14 +66,6 @@ class TwoInputFRF:
     force: FRF
     condition: np.ndarray
     n_tests: int
-
-
-def _period_spectra(signal, n_points: int, lines: np.ndarray, discard_periods: int) -> np.ndarray:
-    """The spectra at ``lines`` of each period after the transient, shape (periods, lines)."""
-    x = np.asarray(signal, dtype=float)[discard_periods * n_points :]
-    if x.size == 0 or x.size % n_points:
-        raise ConfigError("frf.n_points", f"records of a whole number of {n_points}-sample periods")
-    return np.fft.rfft(x.reshape(-1, n_points), axis=1)[:, lines]
 
 
 def two_input_frf(
@@ -111,9 +103,7 @@ def two_input_frf(
             "recordings", "two or more tests whose article force differs (e.g. bare table and a mass)"
         )
     lines = np.asarray(lines, dtype=int)
-    spectra = [
-        tuple(_period_spectra(sig, n_points, lines, discard_periods) for sig in test) for test in tests
-    ]
+    spectra = [tuple(period_spectra(sig, n_points, lines, discard_periods) for sig in test) for test in tests]
     if min(s[0].shape[0] for s in spectra) < 2:
         raise ConfigError("frf.n_periods", "at least two periods after the transient in every test")
     # X: (lines, 2, R) inputs, Y: (lines, R) responses, from each test's period average.
@@ -141,7 +131,7 @@ def two_input_frf(
     for u, w, y in spectra:
         e = y - H[:, 0] * u - H[:, 1] * w
         p = u.shape[0]
-        var = _smoothed(np.sum(np.abs(e) ** 2, axis=0) / (p - 1), SMOOTHING_LINES)
+        var = smoothed(np.sum(np.abs(e) ** 2, axis=0) / (p - 1), SMOOTHING_LINES)
         s_diag.append(var / p)
         total_e += np.sum(np.abs(e) ** 2, axis=0)
         total_y += np.sum(np.abs(y) ** 2, axis=0)
