@@ -8,6 +8,10 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+import pytest
+
+import impedance_mil.signals.drive as drive_module
 from impedance_mil.signals.drive import read_drive
 
 
@@ -40,10 +44,26 @@ def test_a_file_as_output_folder_is_refused(imil, tmp_path):
     assert out.read_text() == "not a folder"
 
 
-def test_a_failed_write_leaves_no_new_folder(imil, tmp_path):
-    # A drive unit of the wrong dimension is refused after the folder check: the folder
-    # the command would have made is not left behind.
+def test_a_unit_refused_before_writing_leaves_no_new_folder(imil, tmp_path):
+    # A drive unit of the wrong dimension is refused before anything is written.
     out = tmp_path / "drive"
     res = imil("drive", "multisine", "--lab", "report", "--drive-units", "s", "-o", out)
     assert res.returncode == 2
     assert not out.exists()
+
+
+def test_a_write_that_fails_midway_removes_the_folder_it_made(tmp_path, monkeypatch):
+    # The metadata write fails after the data file is written: the data file and the new
+    # folder go with it (nothing half-written); an existing folder is kept.
+    def failing(path, text):
+        if str(path).endswith(".json"):
+            raise OSError("disk full")
+        return real(path, text)
+
+    real = drive_module.atomic_write_text
+    monkeypatch.setattr(drive_module, "atomic_write_text", failing)
+    for out, existed in ((tmp_path / "new", False), (tmp_path, True)):
+        with pytest.raises(OSError, match="disk full"):
+            drive_module.write_drive(out, "multisine", np.zeros(8), sample_rate_hz=2000.0, unit="mm")
+        assert out.exists() == existed
+        assert not (out / "multisine.csv").exists()
