@@ -29,7 +29,7 @@ from typing import Any
 from ..design import ControllerDesign, virtual_model
 from ..design.constraints import DesignCriteria
 from ..design.optimized.indices import passivity_index
-from ..lab.choices import report_lab
+from ..lab.choices import lab_choice, report_lab
 from ..lab.descriptions import (
     FRF_BANDS_HZ,
     ControllerChoice,
@@ -42,6 +42,7 @@ from ..lab.descriptions import (
 )
 from ..lab.experiments import ControlledRun
 from ..lab.feedback import LEGACY_NAMES, Feedback
+from ..lab.labfile import LabSetup, load_lab
 from ..lab.runfile import TRIP_KEYS, flat_summary, run_summary, write_run_file
 from ..plant import TableParameters
 from ..report_config import report_config
@@ -121,9 +122,20 @@ RUN_PARAMS: dict[str, Param] = {
         help="controller arithmetic (the RMC75E computes in single precision)",
     ),
     "seed": Param("seed", type="integer", check="nonnegative", help="sensor-noise seed"),
+    "lab": Param(
+        "lab",
+        type="text",
+        help="lab file (or a shipped lab's name) whose table, sensors, interlocks and dynamics the runs "
+        "use; default: the report's setup",
+    ),
 }
 
-FRF_PARAMS: dict[str, Param] = {**TABLE_PARAMS, **SPECIMEN_PARAMS, "seed": RUN_PARAMS["seed"]}
+FRF_PARAMS: dict[str, Param] = {
+    **TABLE_PARAMS,
+    **SPECIMEN_PARAMS,
+    "seed": RUN_PARAMS["seed"],
+    "lab": RUN_PARAMS["lab"],
+}
 TRACKING_PARAMS: dict[str, Param] = {
     **TABLE_PARAMS,
     **SPECIMEN_PARAMS,
@@ -160,6 +172,7 @@ FRF_DEFAULTS: dict[str, Any] = {
     "table": {},
     "specimen": {"kind": "bare", "water_depth": _REPORT.specimen.water_depth_in},
     "seed": 0,
+    "lab": None,
 }
 #: Tracking runs default to the empty vessel (the first depth of Section 8.2's study, 0 in).
 TRACKING_DEFAULTS: dict[str, Any] = {
@@ -168,6 +181,7 @@ TRACKING_DEFAULTS: dict[str, Any] = {
     "motion": _MOTION_DEFAULTS,
     "controller": _CONTROLLER_DEFAULTS,
     "seed": 0,
+    "lab": None,
 }
 MIL_DEFAULTS: dict[str, Any] = {
     **TRACKING_DEFAULTS,
@@ -183,9 +197,28 @@ def _specimen(config: dict[str, Any]) -> SpecimenChoice:
     return SpecimenChoice.vessel(float(spec["water_depth"]))
 
 
+def _lab_setup(config: dict[str, Any]) -> LabSetup | None:
+    """The run's lab file (``lab``), or None for the report's setup."""
+    name = config.get("lab")
+    return None if name is None else load_lab(name)
+
+
 def _lab(config: dict[str, Any], used: dict[str, Any]) -> LabChoice:
-    """The report's interlocks and substep policy (recorded in ``used``), the run's seed."""
-    return report_lab(_REPORT, int(config["seed"]), used)
+    """The lab of ``config["lab"]`` (its interlocks, sensors, substeps), else the report's; the run's seed."""
+    setup = _lab_setup(config)
+    if setup is None:
+        return report_lab(_REPORT, int(config["seed"]), used)
+    used["lab"] = setup.name
+    return lab_choice(setup, int(config["seed"]), used)
+
+
+def _table(config: dict[str, Any]) -> TableParameters:
+    """The run's table: the lab file's physical table (``lab``) or Table 4.1, with the ``table`` entries set."""
+    setup = _lab_setup(config)
+    if setup is None:
+        return table_parameters(config)
+    changes = {k: v for k, v in config.get("table", {}).items() if v is not None}
+    return setup.physical_table().replace(**changes)
 
 
 def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
@@ -205,9 +238,7 @@ def run_frf_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """
     used: dict[str, Any] = {"frf.peak": _REPORT.frf.peak_in, "frf.delay": _REPORT.frf.delay}
     lab = _lab(config, used)
-    test = FrfTest(
-        table_parameters(config), _specimen(config), _REPORT.frf.peak_in, _REPORT.frf.delay, (), lab, used
-    )
+    test = FrfTest(_table(config), _specimen(config), _REPORT.frf.peak_in, _REPORT.frf.delay, (), lab, used)
     outcome = test.run()
     summary = test.summary(outcome)
     write_run_file(outcome.experiment.run, out_path, summary, test.arrays(outcome, summary))
@@ -251,13 +282,13 @@ def run_tracking_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     motion, source = _motion(config)
     used: dict[str, Any] = {}
     lab = _lab(config, used)
-    test = TrackingTest(table_parameters(config), _specimen(config), motion, _controller(config), lab, used)
+    test = TrackingTest(_table(config), _specimen(config), motion, _controller(config), lab, used)
     return controlled_metrics(test, test.run(), source, out_path)
 
 
 def run_mil_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
     """MIL imitating a virtual isolation system (Section 9); see the module docstring."""
-    params = table_parameters(config)
+    params = _table(config)
     motion, source = _motion(config)
     vs = virtual_system(config, params.mass)
     used: dict[str, Any] = {}

@@ -146,3 +146,56 @@ def test_less_passive_more_oscillatory_needs_a_strong_monotone_trend():
     assert verdict("sec10-passive-oscillatory", [mixed]).verdict == DISAGREE
     few = table("table-9.4", [{"passivity_index": i, "hf_ratio": 0.1} for i in index[:3]])
     assert verdict("sec10-passive-oscillatory", [few]).verdict == NOT_RUN
+
+
+def test_basemat_mass_thresholds_of_lr2_and_fp2_use_their_own_report_value():
+    # Section 9.4.4: LR2 unstable from 0.8 m_st, FP2 from 0.9 m_st; each within +-0.1.
+    def rows(vs, unstable):
+        return [
+            {"vs": vs, "m_vs_ratio": r, "hf_ratio": 3.0 if r in unstable else 0.1}
+            for r in (1.25, 1.0, 0.9, 0.8, 0.7, 0.6)
+        ]
+
+    lr2 = table("basemat-mass", rows("LR2", {0.8, 0.7, 0.6}))
+    assert verdict("sec9-basemat-mass-lr2", [lr2]).verdict == AGREE
+    # The SD2 claim finds no SD2 row in the same study.
+    assert verdict("sec9-basemat-mass", [lr2]).verdict == NOT_RUN
+    assert verdict("sec9-basemat-mass-fp2", [table("basemat-mass", rows("FP2", {0.9, 0.8, 0.7, 0.6}))]).verdict == AGREE
+    # FP2 unstable only from 0.7: 0.2 below the report's 0.9.
+    late = verdict("sec9-basemat-mass-fp2", [table("basemat-mass", rows("FP2", {0.7, 0.6}))])
+    assert late.verdict == DISAGREE and "unstable at m_vs/m_st = 0.6, 0.7" in late.measured
+
+
+def test_fc_instability_needs_stable_up_to_100_hz_and_unstable_above():
+    def rows(unstable):
+        return [
+            {"water_depth": 42.0, "f_c": fc, "hf_ratio": 2.0 if fc in unstable else 0.2}
+            for fc in (80.0, 100.0, 150.0, 200.0)
+        ]
+
+    assert verdict("sec8-fc-instability", [table("fc-high", rows({150.0, 200.0}))]).verdict == AGREE
+    # The virtual lab before issue 17: stable everywhere.
+    benign = verdict("sec8-fc-instability", [table("fc-high", rows(set()))])
+    assert benign.verdict == DISAGREE and "150 Hz stable" in benign.measured
+    # Unstable already at 100 Hz: not the report's observation either.
+    early = verdict("sec8-fc-instability", [table("fc-high", rows({100.0, 150.0, 200.0}))])
+    assert early.verdict == DISAGREE
+    assert verdict("sec8-fc-instability", [table("fc-high", rows(set())[:2])]).verdict == NOT_RUN
+
+
+def test_force_equilibrium_is_worse_only_with_the_heavy_article():
+    def rows(fe_light, fe_heavy):
+        return [
+            {"water_depth": d, "feedback": fb, "motion": "GM1", "spectral_error_0p25_15hz": e}
+            for d, fb, e in (
+                (0.0, "lc", 0.1),
+                (0.0, "fe", fe_light),
+                (42.0, "lc", 0.1),
+                (42.0, "fe", fe_heavy),
+            )
+        ]
+
+    assert verdict("sec8-fe-vs-lc", [table("feedback", rows(0.11, 0.2))]).verdict == AGREE
+    alike = verdict("sec8-fe-vs-lc", [table("feedback", rows(0.11, 0.11))])
+    assert alike.verdict == DISAGREE and "42 in 0.11 against 0.1" in alike.measured
+    assert verdict("sec8-fe-vs-lc", [table("feedback", rows(0.2, 0.2))]).verdict == DISAGREE
