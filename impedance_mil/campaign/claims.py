@@ -298,7 +298,7 @@ def _worse_than(key: str, worse: float, better: float, label: str, **where: Any)
 
 def _fc_instability(rows: SummaryTable) -> tuple:
     """Footnote 22: at 42 in, tracking is stable up to f_c = 100 Hz and unstable above."""
-    state = {row.get("f_c"): _stability(row) for row in rows.where(water_depth=42.0).rows}
+    state = {row.get("f_c"): run_stability(row) for row in rows.where(water_depth=42.0).rows}
     x, y = _points(rows, "f_c", "hf_ratio", water_depth=42.0)
     below = [f for f in state if isinstance(f, float) and f <= 100.0]
     above = [f for f in state if isinstance(f, float) and f > 100.0]
@@ -412,7 +412,7 @@ def _trip_cause(row: Mapping[str, Any]) -> TripCause | None:
         return None
 
 
-def _stability(row: Mapping[str, Any]) -> str | None:
+def run_stability(row: Mapping[str, Any]) -> str | None:
     """``"unstable"``, ``"stable"`` or None (inconclusive) for one MIL run.
 
     Unstable: a trip other than the stroke limit (velocity, force, valve, divergence),
@@ -446,7 +446,7 @@ def _instability_threshold(vs: str) -> Callable:
         verdicts, by_ratio = {}, {}
         for row in rows.where(vs=vs).rows:
             if isinstance(row.get("m_vs_ratio"), float):
-                verdicts[row["m_vs_ratio"]] = _stability(row)
+                verdicts[row["m_vs_ratio"]] = run_stability(row)
                 by_ratio[row["m_vs_ratio"]] = row
         if not verdicts:
             return NOT_RUN, f"no {vs} basemat-mass run finished", (), "", "", False
@@ -487,7 +487,7 @@ def _fc_recovers(rows: SummaryTable) -> tuple:
     x, y = _points(rows, "f_c", "hf_ratio")
     if len(x) < 2 or x[0] > 80.0 or x[-1] < 200.0:
         return NOT_RUN, "the runs at f_c = 80 and 200 Hz are missing", (), "", "", False
-    state = {row.get("f_c"): _stability(row) for row in rows.rows}
+    state = {row.get("f_c"): run_stability(row) for row in rows.rows}
     improved = state.get(80.0) == "unstable" or y[0] >= MEANINGFUL_RATIO * y[-1]
     ok = state.get(200.0) == "stable" and improved
     text = "high-frequency rms ratio " + ", ".join(f"{v:.3f} at {f:g} Hz" for f, v in zip(x, y))

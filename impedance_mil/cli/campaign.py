@@ -4,7 +4,9 @@
 refuses bad input before anything runs, then runs the pending runs on local
 processes (or a Dask cluster with ``--scheduler``) with a live progress bar,
 and prints a summary.  ``imil campaign report DIR -o report.html`` writes the
-reproduction report of the campaign folders given.
+reproduction report of the campaign folders given.  ``imil campaign calibrate
+PROTOCOL -o DIR`` calibrates a lab on one report observation
+(:mod:`impedance_mil.campaign.calibration`).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from ..campaign import (
     make_executor,
     run_campaign,
 )
+from ..campaign.calibration import Evaluation, calibrate, load_protocol
 from ..campaign.executors import DEFAULT_CONNECT_TIMEOUT_S
 from ..config import parse_overrides
 from ..report.reproduction import write_reproduction_report
@@ -204,3 +207,36 @@ def report(
         f"{out}: {len(result.outcomes)} claims: {result.agree} agree, "
         f"{result.disagree} disagree, {result.not_run} not run"
     )
+
+
+@app.command("calibrate")
+def calibrate_cmd(
+    protocol: Path = typer.Argument(
+        ..., help="Calibration protocol (TOML): the claim, the parameter, its range."
+    ),
+    out: Path = typer.Option(..., "-o", "--out", help="Folder for calibrated-lab.toml and calibration.json."),
+    as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
+) -> None:
+    """Calibrate one lab parameter on one report observation named in advance (issue 17)."""
+    spec = load_protocol(protocol)
+    par = spec.parameter
+
+    def say(e: Evaluation) -> None:
+        if not as_json:
+            console.print(
+                f"  {par.name} {e.value:.4g} {par.unit}, {spec.observation.vary} {e.setting:g}: {e.verdict}"
+                + (f" (hf_ratio {e.hf_ratio:.3g})" if e.hf_ratio is not None else "")
+                + (f", trip {e.trip}" if e.trip else ""),
+                markup=False,
+            )
+
+    result = calibrate(spec, out, on_run=say)
+    if as_json:
+        print_json(result.to_dict())
+        return
+    console.print(
+        f"{out}: calibrated on {spec.claim}: {par.name} = {result.value:.4g} {par.unit} "
+        f"({'reproduced' if result.reproduced else 'NOT reproduced'} within {par.low:g}-{par.high:g} {par.unit})",
+        markup=False,
+    )
+    console.print(result.note, markup=False)

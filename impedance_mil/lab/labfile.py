@@ -42,6 +42,7 @@ from ..plant.parameters import merge_overrides, ratings_from_report, table_mappi
 from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
 from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
+from .calibration_record import CalibrationRecord, parse_calibration
 from .labsensors import Converter, SensorSetup, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
 from .lti_plant import lti_limits, virtual_table_for
@@ -51,7 +52,7 @@ from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
 REPORT_LAB = "report"
 
 #: Sections of a lab file.
-LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen", "uncertainty")
+LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen", "uncertainty", "calibration")
 
 #: Sections of the report's setup file that are not the lab's (read by report_config).
 _EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf", "tuning")
@@ -176,6 +177,8 @@ class LabSetup:
         The units of what the lab's commands print (``units = "us" | "si"``, default us).
     uncertainty : UncertaintySet or None
         The ranges of the table's uncertain parameters (``[uncertainty]``; None: none given).
+    calibration : CalibrationRecord or None
+        What the lab was calibrated on (``[calibration]``, written by ``imil lab calibrate``).
     """
 
     name: str
@@ -188,6 +191,7 @@ class LabSetup:
     sources: Mapping[str, str] = field(default_factory=dict)
     units: UnitSystem = UnitSystem.US
     uncertainty: UncertaintySet | None = None
+    calibration: CalibrationRecord | None = None
 
     @property
     def defaults(self) -> tuple[str, ...]:
@@ -275,6 +279,7 @@ class LabSetup:
                 "article_weight": self.specimen.article_weight,
             },
             "uncertainty": None if self.uncertainty is None else self.uncertainty.to_dict(),
+            "calibration": None if self.calibration is None else self.calibration.to_dict(),
             "sources": dict(self.sources),
             "output_units": self.units.value,
         }
@@ -395,7 +400,10 @@ def load_lab(
     specimen = _specimen(data.get("specimen"), base, where, sources)
     sources["units"] = "file" if units_given else "default"
     uncertainty = _uncertainty(data.get("uncertainty"), params, where)
-    return LabSetup(label, path, params, limits, sensors, controller, specimen, sources, units, uncertainty)
+    calibration = parse_calibration(data.get("calibration"), where)
+    return LabSetup(
+        label, path, params, limits, sensors, controller, specimen, sources, units, uncertainty, calibration
+    )
 
 
 def _uncertainty(section: Any, params: TableDefinition, where: str) -> UncertaintySet | None:
