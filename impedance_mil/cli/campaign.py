@@ -207,6 +207,12 @@ def report(
         f"{out}: {len(result.outcomes)} claims: {result.agree} agree, "
         f"{result.disagree} disagree, {result.not_run} not run"
     )
+    for record in result.calibrations:
+        console.print(
+            f"calibrated lab: {record.parameter} = {record.value}, calibrated on {record.claim} "
+            f"(does not count); predicted claims that agree: {result.predicted_agree}",
+            markup=False,
+        )
 
 
 @app.command("calibrate")

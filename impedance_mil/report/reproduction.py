@@ -21,6 +21,9 @@ from ..campaign.claims import AGREE, CLAIMS, DISAGREE, NOT_RUN, Claim, ClaimOutc
 from ..campaign.store import CampaignStore
 from ..campaign.summary import NOT_RUN as RUN_NOT_RUN
 from ..campaign.summary import SummaryTable, load_summary
+from ..errors import ImilError
+from ..lab.calibration_record import CalibrationRecord
+from ..lab.labfile import load_lab
 from .html import STYLES, escape, figure_svg, html_page, new_figure, write_html
 
 
@@ -38,6 +41,17 @@ class ReproductionResult:
 
     path: Path
     outcomes: tuple[ClaimOutcome, ...]
+    #: The calibration records of the calibrated labs the campaigns ran on (empty: none).
+    calibrations: tuple[CalibrationRecord, ...] = ()
+
+    def role(self, outcome: ClaimOutcome) -> str:
+        """``calibrated`` (its agreement does not count), ``predicted``, or ``""`` (no calibrated lab)."""
+        return claim_role(outcome.claim, self.calibrations)
+
+    @property
+    def predicted_agree(self) -> int:
+        """Claims predicted by a calibrated lab (not calibrated on) that agree."""
+        return sum(o.verdict == AGREE and self.role(o) == PREDICTED for o in self.outcomes)
 
     def _count(self, verdict: str) -> int:
         return sum(o.verdict == verdict for o in self.outcomes)
@@ -56,6 +70,33 @@ class ReproductionResult:
     def not_run(self) -> int:
         """Claims without data."""
         return self._count(NOT_RUN)
+
+
+CALIBRATED, PREDICTED = "calibrated", "predicted"
+
+
+def claim_role(claim: Claim, calibrations: Sequence[CalibrationRecord]) -> str:
+    """Whether ``claim`` was calibrated on, predicted, or neither (no calibrated lab in the campaigns)."""
+    if not calibrations:
+        return ""
+    return CALIBRATED if any(r.claim == claim.id for r in calibrations) else PREDICTED
+
+
+def lab_calibrations(tables: Sequence[SummaryTable]) -> tuple[CalibrationRecord, ...]:
+    """The ``[calibration]`` records of the lab files the runs name (column ``lab``).
+
+    A lab file that can no longer be read contributes nothing (the page lists the labs it read).
+    """
+    names = sorted({str(v) for t in tables if "lab" in t.columns for v in t.column("lab") if v})
+    records = []
+    for name in names:
+        try:
+            record = load_lab(name).calibration
+        except (ImilError, OSError):
+            continue
+        if record is not None and record not in records:
+            records.append(record)
+    return tuple(records)
 
 
 def claim_figure(outcome: ClaimOutcome) -> Figure:
@@ -81,12 +122,16 @@ def claim_figure(outcome: ClaimOutcome) -> Figure:
     return fig
 
 
-def _claim_section(outcome: ClaimOutcome) -> str:
+def _claim_section(outcome: ClaimOutcome, role: str) -> str:
     claim: Claim = outcome.claim
     css = outcome.verdict.replace(" ", "-")
+    tag = {
+        CALIBRATED: " (calibrated on this claim: its agreement does not count)",
+        PREDICTED: " (predicted, not calibrated on)",
+    }.get(role, "")
     parts = [
         f'<div class="claim" id="{escape(claim.id)}">',
-        f'<h2>{escape(claim.id)} <span class="verdict {css}">{escape(outcome.verdict)}</span></h2>',
+        f'<h2>{escape(claim.id)} <span class="verdict {css}">{escape(outcome.verdict)}</span>{escape(tag)}</h2>',
         f"<p><b>Report, Section {escape(claim.section)}:</b></p><blockquote>{escape(claim.statement)}</blockquote>",
         f"<p><b>Test:</b> {escape(claim.test)} (campaign <code>{escape(claim.campaign)}</code>, "
         f"study <code>{escape(claim.study)}</code>)</p>",
@@ -98,18 +143,30 @@ def _claim_section(outcome: ClaimOutcome) -> str:
     return "".join(parts)
 
 
-def _overview(outcomes: Sequence[ClaimOutcome]) -> str:
+def _overview(outcomes: Sequence[ClaimOutcome], calibrations: Sequence[CalibrationRecord]) -> str:
+    roles = {o.claim.id: claim_role(o.claim, calibrations) for o in outcomes}
     rows = "".join(
         f'<tr><td><a href="#{escape(o.claim.id)}">{escape(o.claim.id)}</a></td>'
         f"<td>{escape(o.claim.section)}</td><td>{escape(o.claim.statement)}</td>"
+        f"<td>{escape(roles[o.claim.id] or '-')}</td>"
         f'<td><span class="verdict {o.verdict.replace(" ", "-")}">{escape(o.verdict)}</span></td></tr>'
         for o in outcomes
     )
     counts = {v: sum(o.verdict == v for o in outcomes) for v in (AGREE, DISAGREE, NOT_RUN)}
     summary = ", ".join(f"{n} {v}" for v, n in counts.items())
+    text = f"<h2>Overview</h2><p>{len(outcomes)} claims: {escape(summary)}.</p>"
+    for record in calibrations:
+        predicted = [o for o in outcomes if roles[o.claim.id] == PREDICTED and o.verdict != NOT_RUN]
+        good = sum(o.verdict == AGREE for o in predicted)
+        text += (
+            f"<p><b>Calibrated lab:</b> {escape(record.parameter)} = {escape(record.value)}, calibrated on "
+            f'<a href="#{escape(record.claim)}">{escape(record.claim)}</a> '
+            f"({'reproduced' if record.reproduced else 'NOT reproduced'} within its sources' range; protocol "
+            f"<code>{escape(record.protocol)}</code>). Agreement on that claim does not count; "
+            f"{good} of {len(predicted)} predicted claims that were run agree.</p>"
+        )
     return (
-        f"<h2>Overview</h2><p>{len(outcomes)} claims: {escape(summary)}.</p>"
-        "<table><tr><th>claim</th><th>section</th><th>statement</th><th>verdict</th></tr>"
+        text + "<table><tr><th>claim</th><th>section</th><th>statement</th><th>role</th><th>verdict</th></tr>"
         f"{rows}</table>"
     )
 
@@ -139,8 +196,8 @@ def _inventory(folders: Sequence[Path], tables: Sequence[SummaryTable]) -> str:
 
 def render_reproduction_html(
     folders: Sequence[str | Path], claims: Sequence[Claim] = CLAIMS
-) -> tuple[str, list[ClaimOutcome]]:
-    """The reproduction page for campaign folders, and the claim outcomes.
+) -> tuple[str, list[ClaimOutcome], tuple[CalibrationRecord, ...]]:
+    """The reproduction page for campaign folders, the claim outcomes and the labs' calibration records.
 
     Raises
     ------
@@ -150,18 +207,24 @@ def render_reproduction_html(
     paths = [Path(f) for f in folders]
     tables = [load_summary(p) for p in paths]
     outcomes = evaluate_claims(tables, claims)
+    calibrations = lab_calibrations(tables)
     intro = (
         "<p>Each claim of the MCEER report <i>Impedance-Matching Control Design for Shake-Table "
         "Testing and Model-in-the-Loop Simulations</i> is quoted with its section, then tested on "
         "the virtual lab's campaigns. <b>agree</b>: the toolkit's numbers support the statement; "
         "<b>disagree</b>: they do not; <b>not run</b>: the campaign holding the data was not run "
-        "(or its runs failed). Toolkit curves are solid blue, the report's values dashed red.</p>"
+        "(or its runs failed). Toolkit curves are solid blue, the report's values dashed red. When the "
+        "campaigns ran on a calibrated lab (<code>imil campaign calibrate</code>), the claim it was "
+        "calibrated on is marked <i>calibrated</i> and its agreement does not count; the others are "
+        "<i>predicted</i>.</p>"
     )
     sections = (
-        [intro, _overview(outcomes)] + [_claim_section(o) for o in outcomes] + [_inventory(paths, tables)]
+        [intro, _overview(outcomes, calibrations)]
+        + [_claim_section(o, claim_role(o.claim, calibrations)) for o in outcomes]
+        + [_inventory(paths, tables)]
     )
     page = html_page("Reproduction of the report's claims", sections, subtitle=f"impedance-mil {__version__}")
-    return page, outcomes
+    return page, outcomes, calibrations
 
 
 def write_reproduction_report(
@@ -178,5 +241,5 @@ def write_reproduction_report(
     claims : sequence of Claim
         The claims to check (default: all of :data:`~impedance_mil.campaign.claims.CLAIMS`).
     """
-    page, outcomes = render_reproduction_html(folders, claims)
-    return ReproductionResult(write_html(out, page), tuple(outcomes))
+    page, outcomes, calibrations = render_reproduction_html(folders, claims)
+    return ReproductionResult(write_html(out, page), tuple(outcomes), calibrations)
