@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
+import impedance_mil
 from impedance_mil.campaign import InlineExecutor, load_campaign, motions, run_campaign
 from impedance_mil.campaign.motions import REPORT_MOTIONS, find_peer_file, motion_source, report_motion
 from impedance_mil.lab.results import load_run
@@ -128,3 +130,30 @@ def test_a_mil_run_records_the_passivity_of_its_design(lab_campaign, imil):
     first = json.loads(res.stdout)["constraints"][0]
     assert sd2.metrics["passivity_margin_deg"] == pytest.approx(first["passivity_margin_deg"], rel=1e-9)
     assert sd2.metrics["passivity_index"] == pytest.approx(first["passivity_index"], rel=1e-9)
+
+
+LAB_FILE_CAMPAIGN = """
+[campaign]
+name = "on-a-lab"
+kind = "tracking"
+[base]
+duration = "2 s"
+motion = "GM1"
+[[study]]
+name = "labs"
+product = { lab = ["report", "LAB"] }
+"""
+TABLE_4_1 = Path(impedance_mil.__file__).parent / "data" / "tables" / "report_table_4_1.toml"
+
+
+def test_a_campaign_runs_on_a_lab_file_with_its_interlocks(tmp_path):
+    # A lab with a 0.05 in stroke interlock, far less than GM1 needs: its run trips on the
+    # stroke; the same run on the report's lab (3 in) completes.
+    lab = tmp_path / "mylab.toml"
+    lab.write_text(f'[table]\nfile = "{TABLE_4_1.as_posix()}"\n[limits]\nstroke = "0.05 in"\n')
+    (tmp_path / "c.toml").write_text(LAB_FILE_CAMPAIGN.replace("LAB", lab.as_posix()))
+    result = run_campaign(load_campaign(tmp_path / "c.toml"), tmp_path / "out", InlineExecutor())
+    by_lab = {r.settings["lab"]: r for r in result.records}
+    assert by_lab["report"].status == "ok", by_lab["report"].error
+    assert by_lab[lab.as_posix()].status == "aborted"
+    assert by_lab[lab.as_posix()].metrics["trip_limit"] == "stroke"
