@@ -15,6 +15,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from impedance_mil.design import table_model
 from impedance_mil.errors import ConfigError
 from impedance_mil.lab.labfile import load_lab
 from impedance_mil.plant import TableParameters, default_table_path
@@ -34,7 +35,9 @@ from impedance_mil.plant.nonlinear import (
     kernels,
 )
 from impedance_mil.plant.physics import ValveDynamics
+from impedance_mil.plant.statespace import plant_state_space
 from impedance_mil.plant.table_dynamics import TableDynamics, series_stiffness, smooth_saturation
+from impedance_mil.plant.table_dynamics_model import linearized_plant
 from impedance_mil.units import TWO_PI
 
 TABLE = default_table_path()
@@ -307,3 +310,47 @@ def test_lab_show_lists_the_dynamics(imil, tmp_path):
     assert "[dynamics] spool_rate_limit" in res.stdout and "2500" in res.stdout
     assert "[dynamics] foundation_stiffness" in res.stdout and "200000" in res.stdout
     assert "pressure_friction" not in res.stdout  # off: not listed
+
+
+# ----------------------------------------------------------------------------- the design's linear model
+F_GRID = np.logspace(-1, np.log10(200.0), 60)
+
+
+def test_linearized_plant_without_dynamics_is_eq_4_11():
+    """Independent method: the kernel's numerical Jacobian in Eq 4-11's coordinates vs the typed-in model."""
+    eq = plant_state_space(P)
+    lin = linearized_plant(P)
+    assert lin.states == eq.states
+    for out, inp in (("z", "u_i"), ("z", "w"), ("dp", "u_i"), ("x", "w")):
+        np.testing.assert_allclose(
+            lin.frequency_response(out, inp, F_GRID), eq.frequency_response(out, inp, F_GRID), rtol=1e-6
+        )  # measured 3e-9
+    first = P.with_valve("first-order", valve_time_constant=0.003)
+    np.testing.assert_allclose(
+        linearized_plant(first).frequency_response("z", "u_i", F_GRID),
+        plant_state_space(first).frequency_response("z", "u_i", F_GRID),
+        rtol=1e-6,
+    )
+
+
+def test_design_table_model_takes_the_mount_when_asked():
+    k_oil = P.mass * (TWO_PI * P.f_oil_hz) ** 2
+    rich = replace(P, dynamics=TableDynamics(foundation_stiffness=k_oil, spool_rate_limit=2500.0))
+    poles = linearized_plant(rich).poles()
+    oil = poles[np.argmin(np.abs(np.abs(poles) - TWO_PI * P.f_oil_hz / math.sqrt(2)))]
+    assert abs(oil) == pytest.approx(TWO_PI * P.f_oil_hz / math.sqrt(2), rel=1e-7)  # k_f = k_oil: f_oil/sqrt 2
+    plain, same = table_model(P), table_model(P, linearized=True)
+    np.testing.assert_allclose(
+        same.H_zu.frequency_response(F_GRID), plain.H_zu.frequency_response(F_GRID), rtol=1e-6
+    )
+    softer = table_model(rich, linearized=True)
+    assert not np.allclose(softer.H_zu.frequency_response(F_GRID), plain.H_zu.frequency_response(F_GRID), rtol=1e-2)
+
+
+def test_design_cli_linearized_table(imil, tmp_path):
+    path = _lab(tmp_path, "[dynamics.foundation]\nstiffness = 1.2e5\n")
+    res = imil("design", "--lab", path, "--linearized-table", "--json")
+    assert res.returncode == 0, res.stderr
+    assert '"table_model": "linearized"' in res.stdout
+    bad = imil("design", "--lab", path, "--linearized-table", "--passivity-model", "sampled")
+    assert bad.returncode == 2 and "--linearized-table" in bad.stderr and bad.stderr.count("\n") == 1
