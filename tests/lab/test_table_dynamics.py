@@ -338,13 +338,17 @@ def test_design_table_model_takes_the_mount_when_asked():
     rich = replace(P, dynamics=TableDynamics(foundation_stiffness=k_oil, spool_rate_limit=2500.0))
     poles = linearized_plant(rich).poles()
     oil = poles[np.argmin(np.abs(np.abs(poles) - TWO_PI * P.f_oil_hz / math.sqrt(2)))]
-    assert abs(oil) == pytest.approx(TWO_PI * P.f_oil_hz / math.sqrt(2), rel=1e-7)  # k_f = k_oil: f_oil/sqrt 2
+    assert abs(oil) == pytest.approx(
+        TWO_PI * P.f_oil_hz / math.sqrt(2), rel=1e-7
+    )  # k_f = k_oil: f_oil/sqrt 2
     plain, same = table_model(P), table_model(P, linearized=True)
     np.testing.assert_allclose(
         same.H_zu.frequency_response(F_GRID), plain.H_zu.frequency_response(F_GRID), rtol=1e-6
     )
     softer = table_model(rich, linearized=True)
-    assert not np.allclose(softer.H_zu.frequency_response(F_GRID), plain.H_zu.frequency_response(F_GRID), rtol=1e-2)
+    assert not np.allclose(
+        softer.H_zu.frequency_response(F_GRID), plain.H_zu.frequency_response(F_GRID), rtol=1e-2
+    )
 
 
 def test_design_cli_linearized_table(imil, tmp_path):
