@@ -18,7 +18,10 @@ import pytest
 from impedance_mil.design import table_model
 from impedance_mil.errors import ConfigError
 from impedance_mil.lab.labfile import load_lab
-from impedance_mil.plant import TableParameters, default_table_path
+from impedance_mil.lab.loop import simulate
+from impedance_mil.lab.setup import ideal_sensors
+from impedance_mil.plant import LinearTable, TableParameters, default_table_path
+from impedance_mil.plant.linear import closed_loop_state_space
 from impedance_mil.plant.nonlinear import (
     IX_P1,
     IX_P2,
@@ -38,6 +41,8 @@ from impedance_mil.plant.physics import ValveDynamics
 from impedance_mil.plant.statespace import plant_state_space
 from impedance_mil.plant.table_dynamics import TableDynamics, series_stiffness, smooth_saturation
 from impedance_mil.plant.table_dynamics_model import linearized_plant
+from impedance_mil.signals.frf import estimate_frf
+from impedance_mil.signals.multisine import design_multisine
 from impedance_mil.units import TWO_PI
 
 TABLE = default_table_path()
@@ -93,8 +98,6 @@ def test_absent_or_all_off_is_the_report_table_to_the_last_bit():
 
 def test_the_linear_model_of_eq_4_11_ignores_the_dynamics():
     """The table parameters carry them to the nonlinear table only; Eq 4-11 is unchanged."""
-    from impedance_mil.plant import LinearTable
-
     rich = replace(P, dynamics=TableDynamics(foundation_stiffness=1e5))
     a = LinearTable(P).tf("z", "u")
     b = LinearTable(rich).tf("z", "u")
@@ -358,3 +361,33 @@ def test_design_cli_linearized_table(imil, tmp_path):
     assert '"table_model": "linearized"' in res.stdout
     bad = imil("design", "--lab", path, "--linearized-table", "--passivity-model", "sampled")
     assert bad.returncode == 2 and "--linearized-table" in bad.stderr and bad.stderr.count("\n") == 1
+
+
+def test_the_lab_loop_with_a_mount_follows_the_linearized_model():
+    """Independent method: the compiled lab loop (RK4 in lab/stepping.py) against the linear model.
+
+    As tests/lab/test_experiments.py does for Eq 4-14b: a 10 us loop approaches the analog
+    controller, so the small-amplitude FRF x/u of the nonlinear table with a mount of
+    k_f = k_oil (oil column at f_oil/sqrt 2) and a 2500 mA/s rate limit (inactive at 2e-3 in)
+    equals the linearized model closed without delay within 1 % and 1 deg up to 100 Hz
+    (measured 0.46 % and 0.38 deg, as the rigid case's delay residue; Eq 4-14b without the
+    mount is off by 69 %).
+    """
+    k_oil = P.mass * (TWO_PI * P.f_oil_hz) ** 2
+    fast = replace(
+        P.replace(loop_time=10e-6),
+        dynamics=TableDynamics(foundation_stiffness=k_oil, spool_rate_limit=2500.0),
+    )
+    table = NonlinearTable.from_linear(fast, friction=Friction.none())
+    ms = design_multisine(
+        peak=2e-3, n_points=16384, n_lines=16, f_max_hz=100.0, sample_rate_hz=1e5, n_periods=4, iterations=20
+    )
+    run = simulate(table, command=ms.signal, sensors=ideal_sensors(), quantize=False, substeps=1)
+    frf = estimate_frf(run.u, run.x, ms.n_points, ms.sample_rate_hz, lines=ms.lines)
+    ref = closed_loop_state_space(fast, "none", open_loop=linearized_plant(fast)).frequency_response(
+        "x", "u", frf.frequency_hz
+    )
+    rigid = LinearTable(fast, delay="none").state_space().frequency_response("x", "u", frf.frequency_hz)
+    assert np.max(np.abs(np.abs(frf.response / ref) - 1)) < 0.01
+    assert np.max(np.abs(np.angle(frf.response / ref, deg=True))) < 1.0
+    assert np.max(np.abs(np.abs(frf.response / rigid) - 1)) > 0.3  # the mount is seen
