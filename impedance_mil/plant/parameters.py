@@ -225,7 +225,7 @@ class TableParameters:
         table takes it (:meth:`NonlinearTable.from_linear
         <impedance_mil.plant.nonlinear.NonlinearTable.from_linear>`), the
         linear model of Eq 4-11 does not (see
-        :func:`impedance_mil.plant.table_dynamics_model.linearized_table_model`).
+        :func:`impedance_mil.plant.table_dynamics_model.linearized_plant`).
 
     Examples
     --------
