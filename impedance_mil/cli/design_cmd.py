@@ -237,6 +237,12 @@ def design(
         help="--robust: Latin-hypercube points besides the box's vertices.",
     ),
     robust_seed: int = typer.Option(0, "--robust-seed", help="--robust: seed of the Latin-hypercube sample."),
+    linearized_table: bool = typer.Option(
+        False,
+        "--linearized-table",
+        help="Design on the virtual table linearized at rest, with the lab's [dynamics] (issue 17), "
+        "instead of Eq 4-11 (physical table, first-order passivity model, not with --robust).",
+    ),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
     plots: Path | None = typer.Option(None, "--plots", help="Folder for the Figure 9.31 plots."),
     output: Path | None = typer.Option(
@@ -290,7 +296,17 @@ def design(
     ratios = _parse_list("--mass-ratios", mass_ratios)
     params = table_definition(table, sets, lab)  # physical, or an LTI table ([model])
     setup = _robust_lab(robust, lab, table, sets, robust_samples, robust_seed, mapping or method != "filter")
-    tm = table_model(params)
+    if linearized_table and (
+        not isinstance(params, TableParameters)
+        or passivity_model != "first-order"
+        or robust
+        or method != "filter"
+    ):
+        raise ConfigError(
+            "--linearized-table",
+            "a physical table, --method filter, --passivity-model first-order and no --robust",
+        )
+    tm = table_model(params, linearized=linearized_table)
     if passivity_model != "first-order" and not isinstance(params, TableParameters):
         raise ConfigError(
             "--passivity-model", "first-order for an LTI table (no sampled-data model)", passivity_model
@@ -372,7 +388,8 @@ def design(
             emit_warnings=False,
             **kw,
         )
-    if isinstance(params, TableParameters):  # the sampled-data indices need the physical table
+    # the sampled-data indices and the certificate are of Eq 4-11: not for --linearized-table
+    if isinstance(params, TableParameters) and not linearized_table:
         result = with_indices(result, params, vm, criteria, warn=False, passivity_model=passivity_model)
         result = _with_certificate(result, params, spec, amp_range, criteria, linearization)
     robustness = None
@@ -394,7 +411,9 @@ def design(
     written = (
         []
         if plots is None
-        else _write_plots(plots, params, result, vm, fcs, scan, (form, family, order), criteria, spec, shown)
+        else _write_plots(
+            plots, params, result, vm, fcs, scan, (form, family, order), criteria, spec, shown, tm
+        )
     )
     if output is not None:
         written.append(save_design(result, output))
@@ -406,6 +425,8 @@ def design(
     }
     doc["fc_choice_reasons"] = reasons
     doc["from_report"] = from_report
+    if linearized_table:
+        doc["table_model"] = "linearized"  # the virtual table's linearization, with its [dynamics]
     doc["vs_linearization"] = (
         vm.equivalent.to_dict() if vm is not None and vm.equivalent is not None else None
     )
@@ -573,15 +594,17 @@ def _write_plots(
     criteria: DesignCriteria,
     spec: VSSpec | None,
     units: UnitSystem,
+    tm: TableModel,
 ) -> list[Path]:
     """Figure 9.31 rows (the cut-offs, or the feasible range's ends and the design's) and the constraints.
+
+    ``tm`` is the design's table model (Eq 4-11, or ``--linearized-table``).
 
     ``choice`` is (form, filter family, order); each row is annotated with its passivity margins and
     index: the design's own constraint result for its cut-off (the JSON's numbers), the same indices
     computed for the other rows.
     """
     form, family, order = choice
-    tm = table_model(params)
     ends = [scan.feasible_fc_hz[0], scan.feasible_fc_hz[1]] if scan.feasible_fc_hz else []
     rows = fcs if len(fcs) > 1 else sorted({*ends, fcs[0]})
     indices = {float(result.fc_hz): result.constraints[0]}

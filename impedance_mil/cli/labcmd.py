@@ -66,6 +66,10 @@ def show(
             f"[uncertainty] {key:18s} {rng['min' + end]:.6g} to {rng['max' + end]:.6g}{tail} "
             f"(nominal {rng['nominal' + end]:.6g})"
         )
+    for key, value in (view["dynamics"] or {}).items():
+        if value:  # 0 or None: that dynamic is off
+            unit = human_name(unit_of.get(f"dynamics.{key}", ""))
+            _say(f"[dynamics] {key:22s} {value:.6g} {unit}")
     _say(f"[sensors] clipping {doc['sensors']['clipping']} ({sources['sensors']})")
     for ch in view["sensors"]["channels"]:
         low, high = ch["range"]

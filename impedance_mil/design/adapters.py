@@ -6,9 +6,13 @@ this module is the one place that knows the classes of the other packages.
 
 from __future__ import annotations
 
-from ..errors import ConfigError
+import numpy as np
+
+from ..errors import ConfigError, UnstableSystemError
 from ..plant import LinearTable, TableParameters
+from ..plant.linear import closed_loop_state_space
 from ..plant.lti_table import LTITable
+from ..plant.table_dynamics_model import linearized_plant
 from ..virtual.base import VirtualSystem
 from ..virtual.registry import BUILTIN
 from ..virtual.system import DefinedVS
@@ -16,7 +20,9 @@ from .forms import TableModel, VirtualModel
 from .linearize import DEFAULT_AMPLITUDE_IN, DEFAULT_ARTICLE_WEIGHT_LBF, METHODS, equivalent_linearization
 
 
-def table_model(params: TableParameters | LTITable, delay: str = "first-order") -> TableModel:
+def table_model(
+    params: TableParameters | LTITable, delay: str = "first-order", *, linearized: bool = False
+) -> TableModel:
     """The design's view of a table: ``H_zu``, ``H_zw`` (Eq 4-15a, 4-15d) and the loop time.
 
     Parameters
@@ -29,6 +35,13 @@ def table_model(params: TableParameters | LTITable, delay: str = "first-order") 
     delay : str
         Delay treatment of :class:`~impedance_mil.plant.LinearTable`; the
         report designs with ``"first-order"``.  Not used for an LTI table.
+    linearized : bool
+        Take the open-loop plant from the nonlinear virtual table linearized at
+        rest, with the table's optional ``dynamics`` (issue 17:
+        :func:`impedance_mil.plant.table_dynamics_model.linearized_plant`),
+        instead of Eq 4-11; the loop is closed with the same ``delay``
+        (``"none"``, ``"first-order"`` or ``"pade"``).  Equals Eq 4-11 for a
+        table without dynamics.
 
     Returns
     -------
@@ -46,6 +59,13 @@ def table_model(params: TableParameters | LTITable, delay: str = "first-order") 
         return TableModel(
             params.tf("z", "u"), params.tf("z", "w"), float(params.loop_time), {}, params.capacity.stated()
         )
+    if linearized:
+        loop = closed_loop_state_space(params, delay, open_loop=linearized_plant(params))
+        if not np.all(loop.poles().real < 0):
+            raise UnstableSystemError(
+                f"the linearized table loop is unstable (Ke={params.Ke:g} V/in, Kp={params.Kp:g} V/psi)"
+            )
+        return TableModel(loop.tf("z", "u"), loop.tf("z", "w"), float(params.loop_time), params.to_dict())
     tbl = LinearTable(params, delay=delay).require_stable()
     return TableModel(tbl.tf("z", "u"), tbl.tf("z", "w"), float(params.loop_time), params.to_dict())
 

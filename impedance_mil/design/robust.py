@@ -17,6 +17,11 @@ and three checks are evaluated as the design reports them:
   its margin is the damping ratio of the least damped pole above 15 Hz, or
   the (negative) damping of an unstable pole wherever it is.
 
+A table with optional dynamics (a lab's ``[dynamics]``, issue 17; possibly varied by
+the set) is judged on its linearization at rest with them
+(``table_model(params, linearized=True)``) for ``passivity`` and ``coupled
+stability``; ``sampled passivity`` stays on Eq 4-11.
+
 The points are the vertices of the box and a seeded Latin-hypercube sample
 (:meth:`UncertaintySet.latin_hypercube`), plus the nominal point.  Neither is
 exhaustive: the worst case found is an upper bound on the true worst margin.
@@ -35,6 +40,8 @@ from typing import Any
 
 from ..errors import UnstableSystemError
 from ..plant import LinearTable, TableParameters
+from ..plant.linear import closed_loop_state_space
+from ..plant.table_dynamics_model import linearized_plant
 from ..plant.uncertainty import UncertaintySet
 from ..systems import TransferFunction
 from .adapters import table_model
@@ -250,10 +257,16 @@ def point_margins(
         The passivity band's low end [Hz] and extra tolerance [deg].
     """
     c = criteria or DesignCriteria()
+    # a table with optional dynamics (issue 17) is judged on its linearization, which has them
+    linearized = params.dynamics is not None
     try:
-        tm = table_model(params)
+        tm = table_model(params, linearized=linearized)
     except UnstableSystemError:  # the table's own loop is unstable at this point: so is every check
-        poles = LinearTable(params, delay="first-order").poles()
+        poles = (
+            closed_loop_state_space(params, "first-order", open_loop=linearized_plant(params)).poles()
+            if linearized
+            else LinearTable(params, delay="first-order").poles()
+        )
         worst = -math.inf
         return PointMargins(dict(point), worst, worst, False, None, stability_of_poles(poles, specimen))
     ct = controlled_table(tm, environment(design.form, vs), design.H_uz, design.H_uw, design.form)

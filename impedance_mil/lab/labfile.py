@@ -13,6 +13,8 @@ Sections (TOML, every value with a unit or in the report's unit)::
     [specimen]     kind (vessel, rigid, none or a specimen file), water_depth, article_weight
     [uncertainty]  ranges of uncertain table parameters (plant.uncertainty): f_oil_hz = "±10 %",
                    extra_delay = { min = 0, max = "1 loop" } ...
+    [dynamics]     optional dynamics beyond the report's model, one sub-table each (issue 17):
+                   [dynamics.friction], [dynamics.valve], [dynamics.foundation] (plant.table_dynamics)
     units          "us" or "si" (top level): the units of what the commands print
 
 ``--lab report`` (the default) is the report's setup: the lab sections of
@@ -39,6 +41,7 @@ from ..plant import TableParameters
 from ..plant.lti_table import LTITable
 from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
+from ..plant.table_dynamics import DYNAMICS_UNITS, TABLE_DYNAMICS_SECTIONS, parse_table_dynamics
 from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
 from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
@@ -52,7 +55,19 @@ from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
 REPORT_LAB = "report"
 
 #: Sections of a lab file.
-LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen", "uncertainty", "calibration")
+LAB_SECTIONS = (
+    "table",
+    "limits",
+    "sensors",
+    "controller",
+    "specimen",
+    "uncertainty",
+    "dynamics",
+    "calibration",
+)
+
+#: Sub-tables of ``[dynamics]`` and the parser of each group (a new group adds its names here).
+DYNAMICS_SECTIONS = tuple(TABLE_DYNAMICS_SECTIONS)
 
 #: Sections of the report's setup file that are not the lab's (read by report_config).
 _EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf", "tuning")
@@ -279,10 +294,17 @@ class LabSetup:
                 "article_weight": self.specimen.article_weight,
             },
             "uncertainty": None if self.uncertainty is None else self.uncertainty.to_dict(),
+            "dynamics": _dynamics_dict(self.table),
             "calibration": None if self.calibration is None else self.calibration.to_dict(),
             "sources": dict(self.sources),
             "output_units": self.units.value,
         }
+
+
+def _dynamics_dict(table: TableDefinition) -> dict[str, Any] | None:
+    """The table's optional dynamics (:meth:`TableDynamics.to_dict`), None without any."""
+    dynamics = getattr(table, "dynamics", None)
+    return None if dynamics is None else dynamics.to_dict()
 
 
 #: Unit of every numeric value of :meth:`LabSetup.to_dict` (internal units).
@@ -313,6 +335,7 @@ LAB_UNITS = {
     "specimen.water_depth": "in",
     "specimen.article_weight": "lbf",
     "table": "see imil table info",
+    **{f"dynamics.{k}": v for k, v in DYNAMICS_UNITS.items()},
 }
 
 
@@ -392,6 +415,7 @@ def load_lab(
         params = params.replace(loop_time=controller.loop_time, output_delay_loops=controller.output_delay)
         limits, command = _limits(data.get("limits"), params, controller, where, sources)
         params = params.replace(valve_command_limit=command)
+    params = _dynamics(data.get("dynamics"), params, where, sources)
     generic = None
     if isinstance(params, LTITable) and data.get("sensors") is None:
         generic = lti_sensor_ranges(params, where)
@@ -416,6 +440,27 @@ def _uncertainty(section: Any, params: TableDefinition, where: str) -> Uncertain
             "no [uncertainty] with an LTI table (it has no physical parameters to vary)",
         )
     return parse_uncertainty(section, params, where)
+
+
+def _dynamics(section: Any, params: TableDefinition, where: str, sources: dict) -> TableDefinition:
+    """The table with the ``[dynamics]`` sub-tables it takes (:data:`DYNAMICS_SECTIONS`)."""
+    dynamics = _mapping(section, "dynamics", where)
+    unknown = sorted(set(dynamics) - set(DYNAMICS_SECTIONS))
+    if unknown:
+        raise ConfigError(
+            f"{where}dynamics.{unknown[0]}", "one of the sub-tables " + ", ".join(DYNAMICS_SECTIONS)
+        )
+    for name in dynamics:  # one left out is off (the report's model), not a generic default
+        sources[f"dynamics.{name}"] = "file"
+    own = {k: v for k, v in dynamics.items() if k in TABLE_DYNAMICS_SECTIONS}
+    if not own:
+        return params
+    if isinstance(params, LTITable):
+        raise ConfigError(
+            f"{where}dynamics.{next(iter(own))}",
+            "no table dynamics with an LTI table (its model is the table)",
+        )
+    return params.replace(dynamics=parse_table_dynamics(own, params.rated_current, where))
 
 
 def _has_sections(data: Mapping[str, Any]) -> bool:

@@ -107,7 +107,10 @@ def first_order_lag(tau: float) -> DelayApproximation:
 
 
 def closed_loop_state_space(
-    p: TableParameters, delay: str = "first-order", pade_order: int = DEFAULT_PADE_ORDER
+    p: TableParameters,
+    delay: str = "first-order",
+    pade_order: int = DEFAULT_PADE_ORDER,
+    open_loop: TableStateSpace | None = None,
 ) -> TableStateSpace:
     """Closed hydraulic loop ``u_i = K_v (K_e u(t - (N-1) tau_s) - [K_e x + K_p dP](t - N tau_s))``.
 
@@ -120,6 +123,11 @@ def closed_loop_state_space(
         tau_s = ``p.loop_time`` [s] (module docstring).
     pade_order : int
         Order of the Pade approximations (``delay="pade"``).
+    open_loop : TableStateSpace, optional
+        The open-loop plant to close (input u_i [mA], states ``x, v, dp, ...`` as
+        :func:`plant_state_space`, whose ``x`` and ``dp`` the feedback reads); default
+        Eq 4-11 of ``p``.  The richer linearized table of
+        :func:`impedance_mil.plant.table_dynamics_model.linearized_plant` (issue 17).
 
     Returns
     -------
@@ -128,7 +136,7 @@ def closed_loop_state_space(
         augmented with the Pade states (``"pade"``); for N > 1 with the states
         of the command delay after them (``command_delay_i``).
     """
-    ol = plant_state_space(p)
+    ol = plant_state_space(p) if open_loop is None else open_loop
     A, b_i = ol.A, ol.B_u
     k = feedback_row(p)
     tau = p.loop_time

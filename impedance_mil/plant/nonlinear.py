@@ -54,6 +54,7 @@ from ..lazy import LazyModule, lazy_attributes
 from ..lti import StateSpace
 from ..units import TWO_PI
 from .physics import ValveDynamics
+from .table_dynamics import TableDynamics
 
 # --------------------------------------------------------------------------- layout
 #: Table state layout (indices into the state vector).
@@ -92,8 +93,15 @@ TABLE_STATE_NAMES = ("x", "v", "P1", "P2", "spool", "spool_rate")
     PA_VQ,
     PA_KG,
     PA_GOUT,
-) = range(28)
-N_PARAMS = 28
+    PA_FCSUM,
+    PA_FCLOAD,
+    PA_SRATE,
+    PA_MOUNT,
+) = range(32)
+N_PARAMS = 32
+#: The optional dynamics of :class:`~impedance_mil.plant.table_dynamics.TableDynamics` (0: off):
+#: PA_FCSUM, PA_FCLOAD seal friction per psi of P1 + P2 and of |P1 - P2| [lbf/psi]; PA_SRATE the
+#: spool rate limit [mA/s]; PA_MOUNT the mount's compliance 1/k_f [in/lbf].
 
 
 def orifice_law(dp: float, p_lam: float) -> float:
@@ -259,6 +267,10 @@ class NonlinearTable:
         Displacement sensor gain g [-] in the hydraulic loop (:func:`valve_command`).
     grounded_stiffness : float
         Stiffness from the platen to ground k_g [lbf/in] (:func:`acceleration`).
+    dynamics : TableDynamics or None
+        Optional dynamics of issue 17 (pressure-dependent seal friction, spool
+        rate limit, compliant mount; :mod:`impedance_mil.plant.table_dynamics`);
+        None: none, the report's model to the last bit.
     """
 
     piston_area: float
@@ -284,6 +296,7 @@ class NonlinearTable:
     valve: ValveDynamics | None = None
     output_gain: float = 1.0
     grounded_stiffness: float = 0.0
+    dynamics: TableDynamics | None = None
 
     def __post_init__(self):
         positive = (
@@ -326,6 +339,10 @@ class NonlinearTable:
             raise ConfigError(
                 "table.grounded_stiffness", "a non-negative stiffness [lbf/in]", self.grounded_stiffness
             )
+        rate_limited = self.dynamics is not None and self.dynamics.spool_rate_limit is not None
+        if rate_limited and self.valve_dynamics.order == 2 and not self.valve_dynamics.delta > 0:
+            # the limited second-order valve is delta (sat(gamma e / delta) - s'): it needs damping
+            raise ConfigError("dynamics.valve.spool_rate_limit", "a damped valve (delta > 0)", self.valve)
 
     # ----------------------------------------------------------------- building
     @classmethod
@@ -394,6 +411,7 @@ class NonlinearTable:
             valve=None if p.valve == "two-pole" else p.valve_dynamics,
             output_gain=p.output_gain,
             grounded_stiffness=p.grounded_stiffness,
+            dynamics=getattr(p, "dynamics", None),
         )
 
     def with_gains(self, **changes) -> NonlinearTable:
@@ -462,6 +480,12 @@ class NonlinearTable:
         pa[PA_KV] = self.Kv
         pa[PA_UVMAX] = self.valve_command_limit
         pa[PA_LOOP] = self.loop_time
+        dyn = self.dynamics
+        if dyn is not None:
+            pa[PA_FCSUM] = dyn.pressure_friction
+            pa[PA_FCLOAD] = dyn.load_pressure_friction
+            pa[PA_SRATE] = 0.0 if dyn.spool_rate_limit is None else dyn.spool_rate_limit
+            pa[PA_MOUNT] = dyn.foundation_compliance
         return pa
 
     def equilibrium_state(self) -> np.ndarray:

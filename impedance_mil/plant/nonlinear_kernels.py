@@ -24,6 +24,8 @@ from .nonlinear import (
     PA_AREA,
     PA_CSTOP,
     PA_FC,
+    PA_FCLOAD,
+    PA_FCSUM,
     PA_FV,
     PA_GOUT,
     PA_KAPPA,
@@ -35,10 +37,12 @@ from .nonlinear import (
     PA_KSTOP,
     PA_MASS,
     PA_MID,
+    PA_MOUNT,
     PA_PLAM,
     PA_PR,
     PA_PS,
     PA_SMAX,
+    PA_SRATE,
     PA_UVMAX,
     PA_VDEAD,
     PA_VDELTA,
@@ -47,9 +51,13 @@ from .nonlinear import (
     PA_VSMOOTH,
     orifice_law,
 )
+from .table_dynamics import smooth_saturation
 
 #: The orifice law of :func:`~impedance_mil.plant.nonlinear.orifice_law`, compiled (one definition).
 orifice = njit(cache=True, inline="always", error_model="numpy")(orifice_law)
+
+#: The spool-velocity saturation of :func:`~impedance_mil.plant.table_dynamics.smooth_saturation`, compiled.
+saturation = njit(cache=True, inline="always", error_model="numpy")(smooth_saturation)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -79,7 +87,14 @@ def acceleration(pa, x, v, p1, p2, w_state, w_feed):
     force = pa[PA_AREA] * (p1 - p2) + w_state
     # Rails and seals: smoothed Coulomb + viscous (platen) friction; end-of-stroke cushion.
     vs = pa[PA_VSMOOTH]
-    force -= pa[PA_FC] * v / math.sqrt(v * v + vs * vs) + pa[PA_FV] * v
+    fc = pa[PA_FC]
+    if pa[PA_FCSUM] != 0.0 or pa[PA_FCLOAD] != 0.0:
+        # seals pressed by the chamber pressures (issue 17; skipped when off: the report's model
+        # to the last bit); |dP| smoothed over p_lam, and the level kept >= 0 (no cavitation floor)
+        dp, plam = p1 - p2, pa[PA_PLAM]
+        fc += pa[PA_FCSUM] * (p1 + p2) + pa[PA_FCLOAD] * (math.sqrt(dp * dp + plam * plam) - plam)
+        fc = max(fc, 0.0)
+    force -= fc * v / math.sqrt(v * v + vs * vs) + pa[PA_FV] * v
     force -= pa[PA_KG] * x  # grounded stiffness (0: an exact no-op)
     xm = pa[PA_MID]
     if x > xm:
@@ -117,15 +132,39 @@ def table_rates(pa, x, v, p1, p2, s, sd, current, w_state, w_feed):
     z = acceleration(pa, x, v, p1, p2, w_state, w_feed)
     # Chambers (Eq 4-8c,d) with stroke-dependent volumes.
     vdead = pa[PA_VDEAD]
-    v1 = max(area * (xm + x) + vdead, 0.5 * vdead)
-    v2 = max(area * (xm - x) + vdead, 0.5 * vdead)
+    mount = pa[PA_MOUNT]
+    # Piston stroke relative to the cylinder body: x, or with a compliant mount (issue 17)
+    # x - x_b, the massless mount deflected by the actuator's reaction, x_b = -A_p dP / k_f.
+    xr = x if mount == 0.0 else x + area * mount * (p1 - p2)
+    v1 = max(area * (xm + xr) + vdead, 0.5 * vdead)
+    v2 = max(area * (xm - xr) + vdead, 0.5 * vdead)
     q = pa[PA_VQ]
     q1, q2 = port_flows(pa, q * s + (1.0 - q) * sd, p1, p2)
     leak = pa[PA_KL] * (p1 - p2)
-    dp1 = pa[PA_KAPPA] / v1 * (q1 - area * v - leak)
-    dp2 = pa[PA_KAPPA] / v2 * (area * v + leak - q2)
+    if mount == 0.0:
+        dp1 = pa[PA_KAPPA] / v1 * (q1 - area * v - leak)
+        dp2 = pa[PA_KAPPA] / v2 * (area * v + leak - q2)
+    else:
+        # The relative velocity v + c/A_p dP' (c = A_p^2/k_f) makes the two pressure rates
+        # implicit: P1' = a1 (r1 - c D), P2' = a2 (r2 + c D), D = P1' - P2'; solved for D.
+        a1, a2 = pa[PA_KAPPA] / v1, pa[PA_KAPPA] / v2
+        r1, r2 = q1 - area * v - leak, area * v + leak - q2
+        c = area * area * mount
+        d = (a1 * r1 - a2 * r2) / (1.0 + (a1 + a2) * c)
+        dp1 = a1 * (r1 - c * d)
+        dp2 = a2 * (r2 + c * d)
     # Servovalve (Eq 4-3, or first/second order), spool in mA-equivalent.
-    return z, dp1, dp2, pa[PA_VGAMMA] * (current - q * s) - pa[PA_VDELTA] * sd
+    rate = pa[PA_SRATE]
+    if rate == 0.0:
+        return z, dp1, dp2, pa[PA_VGAMMA] * (current - q * s) - pa[PA_VDELTA] * sd
+    # Pilot-stage flow saturation (issue 17): the spool velocity the pilot asks for is limited
+    # smoothly to +-rate.  Second order: s'' = delta (sat(gamma (i - s) / delta) - s'), a lag of
+    # a bounded demand (no windup; the unlimited valve when sat is the identity).  First order:
+    # the spool (sd) moves at sat(gamma (i - sd)).
+    if q == 1.0:
+        demand = pa[PA_VGAMMA] * (current - s) / pa[PA_VDELTA]
+        return z, dp1, dp2, pa[PA_VDELTA] * (saturation(demand, rate) - sd)
+    return z, dp1, dp2, saturation(pa[PA_VGAMMA] * (current - sd), rate)
 
 
 @njit(cache=True, inline="always", error_model="numpy")

@@ -48,6 +48,7 @@ from .physics import (
     oil_column_damping,
     oil_column_frequency,
 )
+from .table_dynamics import TableDynamics
 
 __all__ = [
     "ALTERNATIVES",
@@ -217,6 +218,14 @@ class TableParameters:
         feedback N loops late (:mod:`impedance_mil.plant.linear`).  Not a
         key of a table file: a lab's ``[controller] output_delay`` sets it
         (:func:`impedance_mil.lab.labfile.load_lab`).
+    dynamics : TableDynamics or None
+        Optional dynamics of the virtual table beyond the report's model
+        (:mod:`impedance_mil.plant.table_dynamics`, issue 17); None: none.  Not
+        a key of a table file: a lab's ``[dynamics]`` sets it; the nonlinear
+        table takes it (:meth:`NonlinearTable.from_linear
+        <impedance_mil.plant.nonlinear.NonlinearTable.from_linear>`), the
+        linear model of Eq 4-11 does not (see
+        :func:`impedance_mil.plant.table_dynamics_model.linearized_plant`).
 
     Examples
     --------
@@ -253,6 +262,7 @@ class TableParameters:
     output_gain: float = 1.0
     grounded_stiffness: float = 0.0
     output_delay_loops: int = 1
+    dynamics: TableDynamics | None = None
 
     def __post_init__(self):
         delay = self.output_delay_loops

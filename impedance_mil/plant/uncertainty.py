@@ -9,6 +9,7 @@ gives a range to some parameters of the table (issue 17, item 3)::
     d = { min = "8e4 psi/s/mA", max = "1.2e5 psi/s/mA" }
     valve_poles_hz = "±20 %"                      # both poles scaled by one factor (relative only)
     extra_delay = { min = 0, max = "1 loop" }     # loops, or a time that is whole loops
+    foundation_stiffness = "±50 %"                # a dynamic of the lab's [dynamics] (plant.table_dynamics)
 
 Each range is a closed interval; the set is the box of the ranges (the
 parameters vary independently: ``d`` is not derived again from a changed
@@ -24,7 +25,7 @@ import itertools
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -32,6 +33,7 @@ import numpy as np
 from ..config import quantity
 from ..errors import ConfigError
 from .parameters import TableParameters
+from .table_dynamics import TableDynamics
 
 #: Largest output delay of a sampled table [loops] (the lab's limit, lab.setup.MAX_OUTPUT_DELAY).
 MAX_TOTAL_DELAY = 100
@@ -74,7 +76,17 @@ UNCERTAIN_KEYS: dict[str, UncertainKey] = {
     "valve_damping": UncertainKey("dimensionless", "second-order valve damping [-]", "second-order"),
     "valve_time_constant": UncertainKey("second", "first-order valve time constant [s]", "first-order"),
     EXTRA_DELAY: UncertainKey("dimensionless", "loops added to the controller's output delay"),
+    "pressure_friction": UncertainKey("force_pound / psi", "seal friction per psi of P1 + P2 [lbf/psi]"),
+    "load_pressure_friction": UncertainKey(
+        "force_pound / psi", "seal friction per psi of |P1 - P2| [lbf/psi]"
+    ),
+    "spool_rate_limit": UncertainKey("milliampere / second", "spool rate limit [mA/s]"),
+    "foundation_stiffness": UncertainKey("force_pound / inch", "mount stiffness k_f [lbf/in]"),
 }
+
+#: The keys that vary the table's optional dynamics (``TableParameters.dynamics``, issue 17):
+#: the lab must set each in ``[dynamics]`` (its nominal value).
+DYNAMICS_KEYS = ("pressure_friction", "load_pressure_friction", "spool_rate_limit", "foundation_stiffness")
 
 #: Unit of each range in JSON (``valve_poles_hz`` is a factor, dimensionless).
 RANGE_UNITS = {
@@ -82,6 +94,10 @@ RANGE_UNITS = {
     "d": "psi/s/mA",
     "valve_frequency_hz": "Hz",
     "valve_time_constant": "s",
+    "pressure_friction": "lbf/psi",
+    "load_pressure_friction": "lbf/psi",
+    "spool_rate_limit": "mA/s",
+    "foundation_stiffness": "lbf/in",
 }
 
 _RELATIVE = re.compile(r"^\s*(?:±|\+-|\+/-)\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*(?:%|percent)\s*$")
@@ -185,8 +201,11 @@ class UncertaintySet:
     def apply(self, table: TableParameters, point: Mapping[str, float]) -> TableParameters:
         """The table at one point of the set (``point``: key -> value, as :meth:`vertices` gives)."""
         changes: dict[str, Any] = {}
+        dynamics: dict[str, float] = {}
         for key, value in point.items():
-            if key == EXTRA_DELAY:
+            if key in DYNAMICS_KEYS:
+                dynamics[key] = value
+            elif key == EXTRA_DELAY:
                 changes["output_delay_loops"] = table.output_delay_loops + int(round(value))
             elif key == "valve_poles_hz":
                 changes[key] = tuple(f * value for f in table.valve_poles_hz)
@@ -194,6 +213,8 @@ class UncertaintySet:
                 changes[key] = value
             else:
                 raise ConfigError(f"uncertainty.{key}", "one of the keys " + ", ".join(UNCERTAIN_KEYS))
+        if dynamics:
+            changes["dynamics"] = replace(table.dynamics or TableDynamics(), **dynamics)
         return table.replace(**changes) if changes else table
 
     def to_dict(self) -> dict[str, Any]:
@@ -241,7 +262,12 @@ def parse_uncertainty(section: Any, table: TableParameters, where: str = "") -> 
     return UncertaintySet(tuple(ranges))
 
 
-def _nominal(key: str, table: TableParameters) -> float:
+def _nominal(key: str, table: TableParameters, name: str = "") -> float:
+    if key in DYNAMICS_KEYS:
+        value = None if table.dynamics is None else getattr(table.dynamics, key)
+        if not value:  # a dynamic that is off has no nominal to vary around
+            raise ConfigError(name, f"the lab's [dynamics] to set {key} (its nominal value) first")
+        return float(value)
     if key == EXTRA_DELAY:
         return 0.0
     if key == "valve_poles_hz":
@@ -250,7 +276,7 @@ def _nominal(key: str, table: TableParameters) -> float:
 
 
 def _range(key: str, raw: Any, spec: UncertainKey, table: TableParameters, name: str) -> ParameterRange:
-    nominal = _nominal(key, table)
+    nominal = _nominal(key, table, name)
     if isinstance(raw, str):
         match = _RELATIVE.match(raw)
         if match is None or key == EXTRA_DELAY:
