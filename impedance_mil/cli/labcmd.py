@@ -66,6 +66,15 @@ def show(
             f"[uncertainty] {key:18s} {rng['min' + end]:.6g} to {rng['max' + end]:.6g}{tail} "
             f"(nominal {rng['nominal' + end]:.6g})"
         )
+    for part, values in view["dynamics"].items():
+        if values is None:
+            continue
+        _say(f"[dynamics.{part}]")
+        for key, value in values.items():
+            unit = human_name(unit_of.get(f"dynamics.{part}.{key}", ""))
+            text = "none" if value is None else (f"{value:.6g}" if isinstance(value, float) else str(value))
+            tail = f" {unit}" if unit not in ("", "1") and value is not None else ""
+            _say(f"  {key:22s} {text}{tail}")
     _say(f"[sensors] clipping {doc['sensors']['clipping']} ({sources['sensors']})")
     for ch in view["sensors"]["channels"]:
         low, high = ch["range"]

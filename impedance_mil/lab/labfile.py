@@ -13,6 +13,9 @@ Sections (TOML, every value with a unit or in the report's unit)::
     [specimen]     kind (vessel, rigid, none or a specimen file), water_depth, article_weight
     [uncertainty]  ranges of uncertain table parameters (plant.uncertainty): f_oil_hz = "±10 %",
                    extra_delay = { min = 0, max = "1 loop" } ...
+    [dynamics]     optional additions (lab.dynamics_file): [dynamics.platen] modal_mass or
+                   mass_fraction, frequency, damping; [dynamics.load_cells] stiffness, damping,
+                   base_mass (specimens.mounting)
     units          "us" or "si" (top level): the units of what the commands print
 
 ``--lab report`` (the default) is the report's setup: the lab sections of
@@ -43,6 +46,7 @@ from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_f
 from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .calibration_record import CalibrationRecord, parse_calibration
+from .dynamics_file import DynamicsSetup, parse_dynamics
 from .labsensors import Converter, SensorSetup, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
 from .lti_plant import lti_limits, virtual_table_for
@@ -52,7 +56,7 @@ from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
 REPORT_LAB = "report"
 
 #: Sections of a lab file.
-LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen", "uncertainty", "calibration")
+LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen", "uncertainty", "calibration", "dynamics")
 
 #: Sections of the report's setup file that are not the lab's (read by report_config).
 _EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf", "tuning")
@@ -179,6 +183,8 @@ class LabSetup:
         The ranges of the table's uncertain parameters (``[uncertainty]``; None: none given).
     calibration : CalibrationRecord or None
         What the lab was calibrated on (``[calibration]``, written by ``imil lab calibrate``).
+    dynamics : DynamicsSetup
+        The optional additions of ``[dynamics]`` (the mounting of the article, ...).
     """
 
     name: str
@@ -192,6 +198,7 @@ class LabSetup:
     units: UnitSystem = UnitSystem.US
     uncertainty: UncertaintySet | None = None
     calibration: CalibrationRecord | None = None
+    dynamics: DynamicsSetup = field(default_factory=DynamicsSetup)
 
     @property
     def defaults(self) -> tuple[str, ...]:
@@ -280,6 +287,7 @@ class LabSetup:
             },
             "uncertainty": None if self.uncertainty is None else self.uncertainty.to_dict(),
             "calibration": None if self.calibration is None else self.calibration.to_dict(),
+            "dynamics": self.dynamics.to_dict(),
             "sources": dict(self.sources),
             "output_units": self.units.value,
         }
@@ -312,6 +320,13 @@ LAB_UNITS = {
     "controller.dac_range": "V",
     "specimen.water_depth": "in",
     "specimen.article_weight": "lbf",
+    "dynamics.platen.modal_mass": "lbf*s**2/in",
+    "dynamics.platen.frequency": "Hz",
+    "dynamics.platen.damping": "",
+    "dynamics.load_cells.stiffness": "lbf/in",
+    "dynamics.load_cells.damping_ratio": "",
+    "dynamics.load_cells.damping_coefficient": "lbf*s/in",
+    "dynamics.load_cells.base_mass": "lbf*s**2/in",
     "table": "see imil table info",
 }
 
@@ -401,8 +416,22 @@ def load_lab(
     sources["units"] = "file" if units_given else "default"
     uncertainty = _uncertainty(data.get("uncertainty"), params, where)
     calibration = parse_calibration(data.get("calibration"), where)
+    dynamics = parse_dynamics(data.get("dynamics"), None if isinstance(params, LTITable) else params.mass, where)
+    if "dynamics" in data:  # no section adds nothing: not a default a run must declare
+        sources["dynamics"] = "file"
     return LabSetup(
-        label, path, params, limits, sensors, controller, specimen, sources, units, uncertainty, calibration
+        label,
+        path,
+        params,
+        limits,
+        sensors,
+        controller,
+        specimen,
+        sources,
+        units,
+        uncertainty,
+        calibration,
+        dynamics,
     )
 
 
