@@ -189,11 +189,15 @@ def mounted_choice(specimen: SpecimenChoice, setup: LabSetup | None) -> Specimen
     m_st, so the virtual table and the linear checks see the same model.
     Without a mounting (or without a lab file) ``specimen`` is returned as it is.
     """
-    mounting = None if setup is None else setup.dynamics.mounting
-    if not mounting or isinstance(setup.table, LTITable):  # an LTI table's lab has no mounting (load_lab)
+    if setup is None or isinstance(setup.table, LTITable):  # an LTI table's lab has no mounting (load_lab)
+        return specimen
+    mounting = setup.dynamics.mounting
+    if not mounting:
         return specimen
     composed = mount(specimen.specimen, mounting, setup.table.mass)
-    parts = [name for name, part in (("platen mode", mounting.platen), ("load cells", mounting.load_cells)) if part]
+    parts = [
+        name for name, part in (("platen mode", mounting.platen), ("load cells", mounting.load_cells)) if part
+    ]
     return SpecimenChoice(
         composed, f"{specimen.label} on {' and '.join(parts)}", float(composed.total_weight)
     )

@@ -86,7 +86,9 @@ def parse_platen(raw: Any, table_mass: float, key: str) -> PlatenMode:
         mass = quantity(f"{key}.modal_mass", section["modal_mass"], MASS_UNIT, "positive")
         where = f"{key}.modal_mass"
     else:
-        mass = table_mass * quantity(f"{key}.mass_fraction", section["mass_fraction"], "dimensionless", "positive")
+        mass = table_mass * quantity(
+            f"{key}.mass_fraction", section["mass_fraction"], "dimensionless", "positive"
+        )
         where = f"{key}.mass_fraction"
     if mass >= table_mass:
         raise ConfigError(
@@ -111,10 +113,15 @@ def parse_load_cells(raw: Any, key: str) -> LoadCells:
         c, is_ratio = quantity(f"{key}.damping", raw_damping, "dimensionless", "nonnegative"), True
     except ConfigError:
         try:
-            c, is_ratio = quantity(f"{key}.damping", raw_damping, "force_pound * second / inch", "nonnegative"), False
+            c, is_ratio = (
+                quantity(f"{key}.damping", raw_damping, "force_pound * second / inch", "nonnegative"),
+                False,
+            )
         except ConfigError:
             raise ConfigError(
-                f"{key}.damping", "a damping ratio >= 0 (e.g. '5 %') or a coefficient (e.g. '20 lbf*s/in')", raw_damping
+                f"{key}.damping",
+                "a damping ratio >= 0 (e.g. '5 %') or a coefficient (e.g. '20 lbf*s/in')",
+                raw_damping,
             ) from None
     base = quantity(f"{key}.base_mass", section.get("base_mass", 0.0), MASS_UNIT, "nonnegative")
     return LoadCells(k, c, base, is_ratio)
@@ -158,9 +165,13 @@ def parse_dynamics(section: Any, table_mass: float | None, where: str = "") -> D
             continue
         key = f"{where}dynamics.{name}"
         if table_mass is None:
-            raise ConfigError(key, "a physical table (an LTI table's model is the whole table, mounting included)")
+            raise ConfigError(
+                key, "a physical table (an LTI table's model is the whole table, mounting included)"
+            )
         parsed[name] = parser(section[name], table_mass, key)
-    others = {name: _table(section[name], f"{where}dynamics.{name}") for name in PASSED_THROUGH if name in section}
+    others = {
+        name: _table(section[name], f"{where}dynamics.{name}") for name in PASSED_THROUGH if name in section
+    }
     mounting = Mounting(parsed.get("platen"), parsed.get("load_cells")) if parsed else None
     return DynamicsSetup(mounting, others)
 

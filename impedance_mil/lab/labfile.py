@@ -416,7 +416,9 @@ def load_lab(
     sources["units"] = "file" if units_given else "default"
     uncertainty = _uncertainty(data.get("uncertainty"), params, where)
     calibration = parse_calibration(data.get("calibration"), where)
-    dynamics = parse_dynamics(data.get("dynamics"), None if isinstance(params, LTITable) else params.mass, where)
+    dynamics = parse_dynamics(
+        data.get("dynamics"), None if isinstance(params, LTITable) else params.mass, where
+    )
     if "dynamics" in data:  # no section adds nothing: not a default a run must declare
         sources["dynamics"] = "file"
     return LabSetup(

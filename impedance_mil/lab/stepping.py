@@ -211,7 +211,9 @@ def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, C_lc, D_lc, lc_own, current, dt, n
             ws += Cs[i] * ys[i] + Cs[n + i] * ys[n + i]
         z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current, ws, Ds)
         if j > 0 and n_filters > 0:
-            filter_boundary(filters, pa, z1, x, p1, p2, load_cell_force(ys, z1, ws + Ds * z1, C_lc, D_lc, lc_own))
+            filter_boundary(
+                filters, pa, z1, x, p1, p2, load_cell_force(ys, z1, ws + Ds * z1, C_lc, D_lc, lc_own)
+            )
         ws = 0.0
         for i in range(n):
             q, qd = ys[i], ys[n + i]
@@ -283,7 +285,9 @@ def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, C_lc, D_lc, lc_own, current, dt, 
         ws = specimen_force_state(Cs, ys)
         z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current, ws, Ds)
         if j > 0 and n_filters > 0:
-            filter_boundary(filters, pa, z1, x, p1, p2, load_cell_force(ys, z1, ws + Ds * z1, C_lc, D_lc, lc_own))
+            filter_boundary(
+                filters, pa, z1, x, p1, p2, load_cell_force(ys, z1, ws + Ds * z1, C_lc, D_lc, lc_own)
+            )
         specimen_rates(Av, Ac, Ap, Bs, ys, z1, k1)
         for i in range(m):
             tmp[i] = ys[i] + 0.5 * h * k1[i]

@@ -346,4 +346,12 @@ def load_cell_output(specimen) -> LoadCellOutput | None:
     return getattr(specimen, "load_cell", None) if isinstance(specimen, MountedSpecimen) else None
 
 
-__all__ = ["LoadCellOutput", "LoadCells", "MountedSpecimen", "Mounting", "PlatenMode", "load_cell_output", "mount"]
+__all__ = [
+    "LoadCellOutput",
+    "LoadCells",
+    "MountedSpecimen",
+    "Mounting",
+    "PlatenMode",
+    "load_cell_output",
+    "mount",
+]

@@ -32,6 +32,7 @@ from impedance_mil.plant import default_table_path
 from impedance_mil.plant.nonlinear import N_TABLE_STATES, NonlinearTable
 from impedance_mil.specimens import FluidVessel, RigidMass
 from impedance_mil.specimens.mounting import LoadCells, MountedSpecimen, Mounting, PlatenMode, mount
+from impedance_mil.specimens.sensors import SensorSuite
 from impedance_mil.units import G0
 
 from .conftest import report_parameters
@@ -118,7 +119,11 @@ def test_platen_cells_base_plate_and_a_two_storey_article_match_the_lumped_eigen
 @pytest.mark.parametrize(
     "spec",
     [
-        mount(FluidVessel.report_default(water_depth_in=36.0), Mounting(PlatenMode(0.1 * M_ST, 150.0, 0.03)), M_ST),
+        mount(
+            FluidVessel.report_default(water_depth_in=36.0),
+            Mounting(PlatenMode(0.1 * M_ST, 150.0, 0.03)),
+            M_ST,
+        ),
         mount(RigidMass(1600.0), Mounting(load_cells=LoadCells(2e6, 0.05, 0.5)), M_ST),
         mount(
             FluidVessel.report_default(water_depth_in=18.0),
@@ -177,14 +182,21 @@ def test_dc_forces_are_the_carried_masses_and_w_lc_is_w_without_a_platen():
     # at DC the load cells carry the article and the plate; the rigid body feels the platen too
     assert _dc(lc.C, lc.D, ss) == pytest.approx(-carried, rel=1e-9)
     assert _dc(ss.C, ss.D, both.table_force_state_space()) - m_p == pytest.approx(-(carried + m_p), rel=1e-9)
-    assert _dc(ss.C, ss.D, ss) == pytest.approx(-carried, rel=1e-9)  # the m_st table's view: as without a platen
+    assert _dc(ss.C, ss.D, ss) == pytest.approx(
+        -carried, rel=1e-9
+    )  # the m_st table's view: as without a platen
     # Without a platen mode, the force on the table is the load cells' at every frequency.
     cells = mount(vessel, Mounting(load_cells=LoadCells(2e6, 0.05, m_b)), M_ST)
-    assert np.array_equal(cells.state_space().C, cells.load_cell.C) and cells.state_space().D == cells.load_cell.D
+    assert (
+        np.array_equal(cells.state_space().C, cells.load_cell.C)
+        and cells.state_space().D == cells.load_cell.D
+    )
     # With one, they part above the mode: w = w_LC - m_p q_p'' (at 150 Hz the platen's inertia dominates).
     f = np.array([1.0, 150.0])
     w = ss.system.frequency_response(f)
-    wl = np.array([lc.C @ np.linalg.solve(2j * np.pi * fi * np.eye(ss.n_states) - ss.A, ss.B) + lc.D for fi in f])
+    wl = np.array(
+        [lc.C @ np.linalg.solve(2j * np.pi * fi * np.eye(ss.n_states) - ss.A, ss.B) + lc.D for fi in f]
+    )
     assert abs(w[0] / wl[0] - 1) < 1e-3 and abs(w[1] / wl[1] - 1) > 0.5
 
 
@@ -233,7 +245,9 @@ def test_a_stiff_mounting_converges_to_the_lab_without(table):
 # ------------------------------------------------------------- (e) the lab file
 def _lab(tmp_path, text: str):
     path = tmp_path / "lab.toml"
-    path.write_text(f'[table]\nfile = "{TABLE}"\n[specimen]\nkind = "rigid"\narticle_weight = "1600 lbf"\n' + text)
+    path.write_text(
+        f'[table]\nfile = "{TABLE}"\n[specimen]\nkind = "rigid"\narticle_weight = "1600 lbf"\n' + text
+    )
     return path
 
 
@@ -279,7 +293,10 @@ def test_the_lab_file_sets_the_mounting_and_the_runs_and_checks_use_it(tmp_path)
         ('[dynamics.platen]\nmodal_mass = "2 lbf/in"\nfrequency = 150\n', "dynamics.platen.modal_mass"),
         ("[dynamics.platen]\nmodal_mass = 5.0\nfrequency = 150\n", "dynamics.platen.modal_mass"),
         ("[dynamics.platen]\nmass_fraction = 1.0\nfrequency = 150\n", "dynamics.platen.mass_fraction"),
-        ("[dynamics.platen]\nmodal_mass = 0.2\nmass_fraction = 0.1\nfrequency = 150\n", "dynamics.platen.modal_mass"),
+        (
+            "[dynamics.platen]\nmodal_mass = 0.2\nmass_fraction = 0.1\nfrequency = 150\n",
+            "dynamics.platen.modal_mass",
+        ),
         ("[dynamics.platen]\nmodal_mass = 0.2\nfrequency = 0\n", "dynamics.platen.frequency"),
         ("[dynamics.platen]\nmodal_mass = 0.2\n", "dynamics.platen.frequency"),
         ("[dynamics.platen]\nmodal_mass = 0.2\nfrequency = 150\ndamping = -0.1\n", "dynamics.platen.damping"),
@@ -340,3 +357,37 @@ def test_a_platen_on_a_bank_keeps_the_fast_path_and_agrees_with_the_general_one(
             plant.advance()
         runs.append(np.array(z))
     assert np.max(np.abs(runs[0] - runs[1])) <= 1e-12 * np.max(np.abs(runs[1]))
+
+
+def test_a_filtered_load_cell_channel_filters_the_load_cell_force(table):
+    # The anti-alias filters advance inside the plant step on the load cells' output when the
+    # specimen has its own (lc_own = 1).  Without a platen mode that output equals w: the run
+    # with lc_own = 1 must equal the one forced to read w (lc_own = 0) to round-off (measured
+    # 0, the same operations), while with a platen mode the two differ (the filter input differs;
+    # measured 6.5e-3 of the peak).
+    def filtered_readings(spec, own: bool) -> np.ndarray:
+        suite = ideal_sensors()
+        suite = SensorSuite(
+            [
+                dataclasses.replace(s, bandwidth_hz=200.0, filter_order=2)
+                if s.quantity == "interface_force"
+                else s
+                for s in suite.sensors
+            ]
+        )
+        plant = VirtualTable(table, spec, sensors=suite, quantize=False, substeps=3)
+        if not own:
+            plant.plant = plant.plant._replace(specimen=plant.plant.specimen._replace(lc_own=0))
+        out = []
+        for k in range(200):
+            out.append(plant.read_sensors().w_lc)
+            plant.write_command(0.05 * math.sin(2 * math.pi * 20 * k * table.loop_time))
+            plant.advance()
+        return np.array(out)
+
+    cells = mount(RigidMass(1600.0), Mounting(load_cells=LoadCells(2e6, 0.05)), M_ST)
+    a, b = filtered_readings(cells, True), filtered_readings(cells, False)
+    assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))
+    both = mount(RigidMass(1600.0), Mounting(PlatenMode(0.1 * M_ST, 150.0, 0.03), LoadCells(2e6, 0.05)), M_ST)
+    c, d = filtered_readings(both, True), filtered_readings(both, False)
+    assert np.max(np.abs(c - d)) > 1e-4 * np.max(np.abs(d))
