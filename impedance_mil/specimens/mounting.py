@@ -45,14 +45,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ConfigError
+from ..lazy import LazyModule
 from ..units import G0, TWO_PI
-from .statespace import SpecimenStateSpace
-from .structural import Specimen
+
+if TYPE_CHECKING:
+    from ..systems import TransferFunction
+    from .statespace import SpecimenStateSpace
+
+# The lab file reads the parameters below in configuration commands, which import no numba;
+# the state space (numba's rk4_step lives beside it) is imported when a specimen is composed.
+statespace = LazyModule("impedance_mil.specimens.statespace")
 
 
 @dataclass(frozen=True)
@@ -196,10 +203,12 @@ def _article_mass(article) -> float:
     return -(D - float(C @ np.linalg.solve(A, B))) if B.size else -D
 
 
-class MountedSpecimen(Specimen):
+class MountedSpecimen:
     """An article on its mounting: input the table's acceleration z, outputs w and w_LC.
 
-    Built by :func:`mount`.  :meth:`state_space` is the form for a table of
+    The specimen contract of :class:`~impedance_mil.specimens.structural.Specimen`
+    (``state_space``, ``impedance``, ``driving_point_impedance``, ``total_mass``,
+    ``total_weight``, ``to_dict``).  Built by :func:`mount`.  :meth:`state_space` is the form for a table of
     mass m_st (module docstring); :attr:`load_cell` the load cells' output.
 
     Parameters
@@ -249,7 +258,7 @@ class MountedSpecimen(Specimen):
         else:  # no cells, or nothing on them: the article stands on the table
             A, B, C_lc, D_lc = Aa, Ba, Ca, Da
         A, B, C, C_lc, D = self._with_platen(A, B, C_lc, D_lc, cells is None or carried <= 0)
-        self._table_form = SpecimenStateSpace(A, B, C, D)
+        self._table_form = statespace.SpecimenStateSpace(A, B, C, D)
         self._load_cell = LoadCellOutput(np.ascontiguousarray(C_lc), float(D_lc))
         self._carried = carried
 
@@ -297,7 +306,16 @@ class MountedSpecimen(Specimen):
         """The same states with output ``w_table`` [lbf], the force on the rigid body of mass :attr:`rigid_table_mass`."""
         p = self.mounting.platen
         ss = self._table_form
-        return SpecimenStateSpace(ss.A, ss.B, ss.C, ss.D - (p.modal_mass if p else 0.0))
+        return statespace.SpecimenStateSpace(ss.A, ss.B, ss.C, ss.D - (p.modal_mass if p else 0.0))
+
+    def impedance(self) -> TransferFunction:
+        """Transfer function ``w/z`` [lbf per in/s**2] (s in rad/s); tends to ``-total_mass`` as ``s -> 0``."""
+        return self.state_space().transfer_function()
+
+    def driving_point_impedance(self, f_hz) -> np.ndarray:
+        """Force on the mounted specimen per table velocity, ``-w / v`` [lbf*s/in], at ``f_hz`` [Hz]."""
+        f = np.atleast_1d(np.asarray(f_hz, dtype=float))
+        return -self.state_space().frequency_response(f) * (1j * TWO_PI * f)
 
     @property
     def total_mass(self) -> float:
