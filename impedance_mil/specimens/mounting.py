@@ -83,9 +83,9 @@ class PlatenMode:
     def __post_init__(self):
         for key, value in (("modal_mass", self.modal_mass), ("frequency", self.frequency_hz)):
             if not (math.isfinite(value) and value > 0):
-                raise ConfigError(f"platen.{key}", "a positive value", value)
+                raise ConfigError(f"dynamics.platen.{key}", "a positive value", value)
         if not (math.isfinite(self.damping_ratio) and self.damping_ratio >= 0):
-            raise ConfigError("platen.damping", "a damping ratio >= 0", self.damping_ratio)
+            raise ConfigError("dynamics.platen.damping", "a damping ratio >= 0", self.damping_ratio)
 
     @property
     def omega(self) -> float:
@@ -125,11 +125,11 @@ class LoadCells:
 
     def __post_init__(self):
         if not (math.isfinite(self.stiffness) and self.stiffness > 0):
-            raise ConfigError("load_cells.stiffness", "a positive stiffness", self.stiffness)
+            raise ConfigError("dynamics.load_cells.stiffness", "a positive stiffness", self.stiffness)
         if not (math.isfinite(self.damping) and self.damping >= 0):
-            raise ConfigError("load_cells.damping", "a damping >= 0", self.damping)
+            raise ConfigError("dynamics.load_cells.damping", "a damping >= 0", self.damping)
         if not (math.isfinite(self.base_mass) and self.base_mass >= 0):
-            raise ConfigError("load_cells.base_mass", "a mass >= 0", self.base_mass)
+            raise ConfigError("dynamics.load_cells.base_mass", "a mass >= 0", self.base_mass)
 
     def coefficient(self, carried_mass: float) -> float:
         """Damping coefficient c [lbf*s/in] with ``carried_mass`` [lbf*s**2/in] on the cells."""
@@ -156,7 +156,7 @@ class Mounting:
     def __bool__(self) -> bool:
         return self.platen is not None or self.load_cells is not None
 
-    def check_table_mass(self, table_mass: float, key: str = "platen.modal_mass") -> None:
+    def check_table_mass(self, table_mass: float, key: str = "dynamics.platen.modal_mass") -> None:
         """Refuse a platen modal mass at or above the table's ``table_mass`` m_st [lbf*s**2/in]."""
         if self.platen is not None and self.platen.modal_mass >= table_mass:
             raise ConfigError(
@@ -237,7 +237,7 @@ class MountedSpecimen:
             base = cells.base_mass - Da  # the mass the cells accelerate directly (plate + rigid part)
             if base <= 0:
                 raise ConfigError(
-                    "load_cells.base_mass",
+                    "dynamics.load_cells.base_mass",
                     "a base-plate mass > 0 for an article with no rigidly attached mass",
                     cells.base_mass,
                 )

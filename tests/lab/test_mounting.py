@@ -391,3 +391,17 @@ def test_a_filtered_load_cell_channel_filters_the_load_cell_force(table):
     both = mount(RigidMass(1600.0), Mounting(PlatenMode(0.1 * M_ST, 150.0, 0.03), LoadCells(2e6, 0.05)), M_ST)
     c, d = filtered_readings(both, True), filtered_readings(both, False)
     assert np.max(np.abs(c - d)) > 1e-4 * np.max(np.abs(d))
+
+
+def test_cells_under_an_article_with_no_base_mass_need_a_base_plate():
+    # A shear building with no rigid base mass (D = 0) on massless cells: the cells and the first
+    # storey would be two springs in series with no mass between them; refused, naming the key.
+    from impedance_mil.specimens import LinearMDOF
+
+    article = LinearMDOF(np.eye(1), np.array([[4000.0]]), np.zeros((1, 1)))
+    with pytest.raises(ConfigError) as err:
+        mount(article, Mounting(load_cells=LoadCells(2e6)), M_ST)
+    assert err.value.key == "dynamics.load_cells.base_mass"
+    assert mount(
+        article, Mounting(load_cells=LoadCells(2e6, base_mass=0.1)), M_ST
+    ).total_mass == pytest.approx(1.1)
