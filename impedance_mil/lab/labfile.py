@@ -56,7 +56,16 @@ from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
 REPORT_LAB = "report"
 
 #: Sections of a lab file.
-LAB_SECTIONS = ("table", "limits", "sensors", "controller", "specimen", "uncertainty", "calibration", "dynamics")
+LAB_SECTIONS = (
+    "table",
+    "limits",
+    "sensors",
+    "controller",
+    "specimen",
+    "uncertainty",
+    "calibration",
+    "dynamics",
+)
 
 #: Sections of the report's setup file that are not the lab's (read by report_config).
 _EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf", "tuning")
