@@ -30,7 +30,7 @@ from impedance_mil.lab.robust import article_impedance, lab_article
 from impedance_mil.lab.substeps import choose_substeps, coupled_state_matrix
 from impedance_mil.plant import default_table_path
 from impedance_mil.plant.nonlinear import N_TABLE_STATES, NonlinearTable
-from impedance_mil.specimens import FluidVessel, RigidMass
+from impedance_mil.specimens import FluidVessel, LinearMDOF, RigidMass
 from impedance_mil.specimens.mounting import LoadCells, MountedSpecimen, Mounting, PlatenMode, mount
 from impedance_mil.specimens.sensors import SensorSuite
 from impedance_mil.units import G0
@@ -99,8 +99,6 @@ def test_platen_cells_base_plate_and_a_two_storey_article_match_the_lumped_eigen
     # [rigid body m_st - m_p, platen m_p, base plate m_b (+ the article's base mass),
     # storeys], stiffness assembled by hand; its generalized eigenvalues are the
     # squares of the composed model's natural frequencies (the rigid-body 0 dropped).
-    from impedance_mil.specimens import LinearMDOF
-
     m_p, f_p, k, m_b = 0.15 * M_ST, 180.0, 3e6, 0.3
     ms, ks = np.array([1.0, 0.8]), np.array([4000.0, 3000.0])
     article = LinearMDOF(np.diag(ms), np.array([[ks.sum(), -ks[1]], [-ks[1], ks[1]]]), np.zeros((2, 2)))
@@ -396,8 +394,6 @@ def test_a_filtered_load_cell_channel_filters_the_load_cell_force(table):
 def test_cells_under_an_article_with_no_base_mass_need_a_base_plate():
     # A shear building with no rigid base mass (D = 0) on massless cells: the cells and the first
     # storey would be two springs in series with no mass between them; refused, naming the key.
-    from impedance_mil.specimens import LinearMDOF
-
     article = LinearMDOF(np.eye(1), np.array([[4000.0]]), np.zeros((1, 1)))
     with pytest.raises(ConfigError) as err:
         mount(article, Mounting(load_cells=LoadCells(2e6)), M_ST)
