@@ -66,10 +66,18 @@ def show(
             f"[uncertainty] {key:18s} {rng['min' + end]:.6g} to {rng['max' + end]:.6g}{tail} "
             f"(nominal {rng['nominal' + end]:.6g})"
         )
-    for key, value in (view["dynamics"] or {}).items():
-        if value:  # 0 or None: that dynamic is off
-            unit = human_name(unit_of.get(f"dynamics.{key}", ""))
-            _say(f"[dynamics] {key:22s} {value:.6g} {unit}")
+    for part, values in view["dynamics"].items():
+        if not isinstance(values, dict):  # a table dynamic: 0 or None is off
+            if values:
+                unit = human_name(unit_of.get(f"dynamics.{part}", ""))
+                _say(f"[dynamics] {part:22s} {values:.6g} {unit}")
+            continue
+        _say(f"[dynamics.{part}]")
+        for key, value in values.items():
+            unit = human_name(unit_of.get(f"dynamics.{part}.{key}", ""))
+            text = "none" if value is None else (f"{value:.6g}" if isinstance(value, float) else str(value))
+            tail = f" {unit}" if unit not in ("", "1") and value is not None else ""
+            _say(f"  {key:22s} {text}{tail}")
     _say(f"[sensors] clipping {doc['sensors']['clipping']} ({sources['sensors']})")
     for ch in view["sensors"]["channels"]:
         low, high = ch["range"]

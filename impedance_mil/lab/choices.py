@@ -34,6 +34,7 @@ from ..plausibility import check_specimen_weight
 from ..report_config import ReportConfig, report_config
 from ..signals.sources import scaled_motion
 from ..specimens import FluidVessel, RigidMass, specimen_from_config
+from ..specimens.mounting import mount
 from ..virtual.files import VSSpec, resolve
 from .descriptions import (
     ControllerChoice,
@@ -178,6 +179,28 @@ def choose_specimen(
         check_specimen_weight(choices.key("specimen_weight"), lbf)
         return SpecimenChoice(RigidMass(lbf), f"rigid mass of {lbf:.0f} lb", lbf)
     return _specimen_file(Path(text), choices.key("specimen"))
+
+
+def mounted_choice(specimen: SpecimenChoice, setup: LabSetup | None) -> SpecimenChoice:
+    """``specimen`` on the lab's mounting (``[dynamics.platen]``, ``[dynamics.load_cells]``), if it has one.
+
+    The article is composed with the mounting by
+    :func:`impedance_mil.specimens.mounting.mount` for the lab's table mass
+    m_st, so the virtual table and the linear checks see the same model.
+    Without a mounting (or without a lab file) ``specimen`` is returned as it is.
+    """
+    if setup is None or isinstance(setup.table, LTITable):  # an LTI table's lab has no mounting (load_lab)
+        return specimen
+    mounting = setup.dynamics.mounting
+    if not mounting:
+        return specimen
+    composed = mount(specimen.specimen, mounting, setup.table.mass)
+    parts = [
+        name for name, part in (("platen mode", mounting.platen), ("load cells", mounting.load_cells)) if part
+    ]
+    return SpecimenChoice(
+        composed, f"{specimen.label} on {' and '.join(parts)}", float(composed.total_weight)
+    )
 
 
 def article_weight(specimen: SpecimenChoice, cfg: ReportConfig, used: dict) -> float:
@@ -342,6 +365,7 @@ def uses_lab_file(choices: Choices) -> bool:
 
 def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any]:
     used: dict[str, Any] = {}
+    setup = None
     if uses_lab_file(choices):
         setup = load_lab(choices.lab, table=choices.table, overrides=choices.table_overrides, accept_lti=True)
         if choices.lab is not None and setup.is_report:
@@ -380,6 +404,8 @@ def _controlled(choices: Choices, cfg: ReportConfig, mil: bool) -> dict[str, Any
             if design is not None:  # a VS asked for must be the designed one
                 vs_of_design(design, choices, spec)
             parts["vs_spec"] = spec
+    # the VS preset is fitted to the article's weight (above); the plant runs the article on its mounting
+    parts["specimen"] = mounted_choice(cast(SpecimenChoice, parts["specimen"]), setup)
     if design is not None:
         parts["given_design"] = design
         parts["design_file"] = str(choices.design)
@@ -445,7 +471,7 @@ def frf_test(
         table = setup.table
     else:
         table = choose_table(None, choices.table_overrides, cfg, used)
-    specimen = choose_specimen(choices, cfg, used, default_kind="none")
+    specimen = mounted_choice(choose_specimen(choices, cfg, used, default_kind="none"), setup)
     peak_in = quantity(
         choices.key("peak"), _pick(peak, cfg.frf.peak_in, "frf.peak", used), "inch", "positive"
     )

@@ -68,6 +68,7 @@ from .stepping import (
     SPEC_CSR,
     coupled_derivative,
     filter_sense,
+    load_cell_force,
     plant_advance,
     specimen_force_state,
 )
@@ -145,6 +146,9 @@ def measure_quantities(sensors, noise_row, readings, time_s, mass, area):
 def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
     """Sensor readings of the plant state ``y``: ``(Measurements, true z [in/s^2], true w [lbf])``.
 
+    The load cells read the specimen's load-cell output (``w`` itself unless
+    the specimen stands on a mounting, :func:`~impedance_mil.lab.stepping.load_cell_force`).
+
     ``pa`` is the table's parameter array, ``specimen`` a
     :class:`~impedance_mil.lab.structures.SpecimenArrays`, ``sensors`` a
     :class:`~impedance_mil.lab.structures.SensorArrays`, ``noise_row`` one
@@ -162,7 +166,7 @@ def plant_sense(pa, y, specimen, sensors, noise_row, readings, time_s):
     q[Q_X] = y[IX_X]
     q[Q_DP] = dp
     q[Q_FORCE] = pa[PA_AREA] * dp
-    q[Q_W] = w
+    q[Q_W] = load_cell_force(y[N_TABLE_STATES:], z, w, specimen.C_lc, specimen.D_lc, specimen.lc_own)
     m = measure_quantities(sensors, noise_row, readings, time_s, pa[PA_MASS], pa[PA_AREA])
     return m, z, w
 
@@ -433,6 +437,9 @@ def advance(plant):
         s.kind,
         s.osc_k,
         s.osc_c,
+        s.C_lc,
+        s.D_lc,
+        s.lc_own,
         plant.held[0].current,
         plant.table[PA_LOOP],
         plant.substeps,

@@ -14,7 +14,10 @@ Sections (TOML, every value with a unit or in the report's unit)::
     [uncertainty]  ranges of uncertain table parameters (plant.uncertainty): f_oil_hz = "±10 %",
                    extra_delay = { min = 0, max = "1 loop" } ...
     [dynamics]     optional dynamics beyond the report's model, one sub-table each (issue 17):
-                   [dynamics.friction], [dynamics.valve], [dynamics.foundation] (plant.table_dynamics)
+                   [dynamics.friction], [dynamics.valve], [dynamics.foundation] (plant.table_dynamics);
+                   [dynamics.platen] modal_mass or mass_fraction, frequency, damping;
+                   [dynamics.load_cells] stiffness, damping, base_mass (lab.dynamics_file,
+                   specimens.mounting)
     units          "us" or "si" (top level): the units of what the commands print
 
 ``--lab report`` (the default) is the report's setup: the lab sections of
@@ -46,6 +49,7 @@ from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_f
 from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .calibration_record import CalibrationRecord, parse_calibration
+from .dynamics_file import DYNAMICS_PARSERS, DynamicsSetup, parse_dynamics
 from .labsensors import Converter, SensorSetup, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
 from .lti_plant import lti_limits, virtual_table_for
@@ -66,8 +70,9 @@ LAB_SECTIONS = (
     "calibration",
 )
 
-#: Sub-tables of ``[dynamics]`` and the parser of each group (a new group adds its names here).
-DYNAMICS_SECTIONS = tuple(TABLE_DYNAMICS_SECTIONS)
+#: Sub-tables of ``[dynamics]``: the table's own (plant.table_dynamics) and the mounting's
+#: (lab.dynamics_file); a new group adds its names here.
+DYNAMICS_SECTIONS = (*TABLE_DYNAMICS_SECTIONS, *DYNAMICS_PARSERS)
 
 #: Sections of the report's setup file that are not the lab's (read by report_config).
 _EXPERIMENT_SECTIONS = ("design", "motion", "motions", "vs", "frf", "tuning")
@@ -194,6 +199,8 @@ class LabSetup:
         The ranges of the table's uncertain parameters (``[uncertainty]``; None: none given).
     calibration : CalibrationRecord or None
         What the lab was calibrated on (``[calibration]``, written by ``imil lab calibrate``).
+    dynamics : DynamicsSetup
+        The optional additions of ``[dynamics]`` (the mounting of the article, ...).
     """
 
     name: str
@@ -207,6 +214,7 @@ class LabSetup:
     units: UnitSystem = UnitSystem.US
     uncertainty: UncertaintySet | None = None
     calibration: CalibrationRecord | None = None
+    dynamics: DynamicsSetup = field(default_factory=DynamicsSetup)
 
     @property
     def defaults(self) -> tuple[str, ...]:
@@ -294,17 +302,19 @@ class LabSetup:
                 "article_weight": self.specimen.article_weight,
             },
             "uncertainty": None if self.uncertainty is None else self.uncertainty.to_dict(),
-            "dynamics": _dynamics_dict(self.table),
+            "dynamics": _dynamics_dict(self.table, self.dynamics),
             "calibration": None if self.calibration is None else self.calibration.to_dict(),
             "sources": dict(self.sources),
             "output_units": self.units.value,
         }
 
 
-def _dynamics_dict(table: TableDefinition) -> dict[str, Any] | None:
-    """The table's optional dynamics (:meth:`TableDynamics.to_dict`), None without any."""
-    dynamics = getattr(table, "dynamics", None)
-    return None if dynamics is None else dynamics.to_dict()
+def _dynamics_dict(table: TableDefinition, setup: DynamicsSetup) -> dict[str, Any]:
+    """The optional dynamics: the mounting's sub-tables (``platen``, ``load_cells``: None when not
+    given) and the table's values (:meth:`TableDynamics.to_dict`, flat, when any is given)."""
+    mounting = {k: v for k, v in setup.to_dict().items() if k in DYNAMICS_PARSERS}
+    table_dynamics = getattr(table, "dynamics", None)
+    return mounting | ({} if table_dynamics is None else table_dynamics.to_dict())
 
 
 #: Unit of every numeric value of :meth:`LabSetup.to_dict` (internal units).
@@ -334,6 +344,13 @@ LAB_UNITS = {
     "controller.dac_range": "V",
     "specimen.water_depth": "in",
     "specimen.article_weight": "lbf",
+    "dynamics.platen.modal_mass": "lbf*s**2/in",
+    "dynamics.platen.frequency": "Hz",
+    "dynamics.platen.damping": "",
+    "dynamics.load_cells.stiffness": "lbf/in",
+    "dynamics.load_cells.damping_ratio": "",
+    "dynamics.load_cells.damping_coefficient": "lbf*s/in",
+    "dynamics.load_cells.base_mass": "lbf*s**2/in",
     "table": "see imil table info",
     **{f"dynamics.{k}": v for k, v in DYNAMICS_UNITS.items()},
 }
@@ -425,8 +442,24 @@ def load_lab(
     sources["units"] = "file" if units_given else "default"
     uncertainty = _uncertainty(data.get("uncertainty"), params, where)
     calibration = parse_calibration(data.get("calibration"), where)
+    dynamics = parse_dynamics(
+        data.get("dynamics"), None if isinstance(params, LTITable) else params.mass, where
+    )
+    if "dynamics" in data:  # no section adds nothing: not a default a run must declare
+        sources["dynamics"] = "file"
     return LabSetup(
-        label, path, params, limits, sensors, controller, specimen, sources, units, uncertainty, calibration
+        label,
+        path,
+        params,
+        limits,
+        sensors,
+        controller,
+        specimen,
+        sources,
+        units,
+        uncertainty,
+        calibration,
+        dynamics,
     )
 
 

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import LimitTripped
 from ..plant.nonlinear import N_TABLE_STATES
+from ..specimens.mounting import load_cell_output
 from . import kernels, lti_kernels
 from .kernels import SPEC_BANK, SPEC_CSR, plant_advance
 from .lti_plant import LTIVirtualTable, check_feedback, lti_arrays, lti_limits, virtual_table_for
@@ -81,7 +82,11 @@ def specimen_arrays(specimen, oscillator_bank: bool = True) -> SpecimenArrays:
     a vessel, a rigid mass, a single-DOF article) and ``oscillator_bank`` is
     true, ``kind`` is ``SPEC_BANK`` and ``osc_k``, ``osc_c`` hold its
     coefficients; otherwise ``kind`` is ``SPEC_CSR`` (``oscillator_bank=False``
-    forces the general path, for comparisons).  Every array is a writable
+    forces the general path, for comparisons).  A specimen on a mounting
+    (:class:`~impedance_mil.specimens.mounting.MountedSpecimen`) gives its
+    load cells' output as ``C_lc``, ``D_lc`` (``lc_own = 1``); any other
+    specimen's load cells read its ``w`` (``C_lc``, ``D_lc`` = ``C``, ``D``,
+    ``lc_own = 0``).  Every array is a writable
     copy: numba compiles the loop once per argument type, and a read-only
     array (a specimen's cached matrices) is another type.
     """
@@ -89,6 +94,8 @@ def specimen_arrays(specimen, oscillator_bank: bool = True) -> SpecimenArrays:
         A, B, C, D = np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
     else:
         A, B, C, D = specimen_state_space(specimen)
+    lc = load_cell_output(specimen)
+    C_lc, D_lc = (C, D) if lc is None else (lc.C, lc.D)
     rows, cols = np.nonzero(A)
     ptr = np.searchsorted(rows, np.arange(A.shape[0] + 1)).astype(np.int64)
     bank = oscillator_bank_of(A, B) if oscillator_bank else None
@@ -103,6 +110,9 @@ def specimen_arrays(specimen, oscillator_bank: bool = True) -> SpecimenArrays:
         kind=kind,
         osc_k=np.array(osc_k),
         osc_c=np.array(osc_c),
+        C_lc=np.array(C_lc, dtype=float),
+        D_lc=float(D_lc),
+        lc_own=int(lc is not None),
     )
 
 

@@ -21,15 +21,15 @@ from ..plant import TableParameters
 from ..plant.uncertainty import UncertaintySet
 from ..report_config import report_config
 from ..systems import TransferFunction
-from .choices import Choices, choose_specimen, with_lab_defaults
+from .choices import Choices, choose_specimen, mounted_choice, with_lab_defaults
 from .descriptions import SpecimenChoice, TrackingTest
 from .labfile import LabSetup
 
 
 def lab_article(setup: LabSetup) -> SpecimenChoice:
-    """The article of a lab file's ``[specimen]`` (the report's vessel for ``--lab report``)."""
+    """The article of a lab file's ``[specimen]`` (the report's vessel for ``--lab report``), on its mounting."""
     choices = with_lab_defaults(Choices(lab=str(setup.path)), setup)
-    return choose_specimen(choices, report_config(), {}, default_kind="none")
+    return mounted_choice(choose_specimen(choices, report_config(), {}, default_kind="none"), setup)
 
 
 def article_impedance(specimen: SpecimenChoice) -> TransferFunction:

@@ -97,6 +97,19 @@ def specimen_force_state(Cs, ys):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def load_cell_force(ys, z, w, C_lc, D_lc, lc_own):
+    """The force the load cells read [lbf]: ``w`` [lbf] itself unless ``lc_own``, else ``C_lc ys + D_lc z``.
+
+    ``ys`` are the specimen states, ``z`` the table acceleration [in/s^2]
+    (:class:`~impedance_mil.lab.structures.SpecimenArrays`; a mounting's load
+    cells read another force than the one on the table).
+    """
+    if lc_own:
+        return specimen_force_state(C_lc, ys) + D_lc * z
+    return w
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def specimen_rates(Av, Ac, Ap, Bs, ys, z, out):
     """Specimen derivative ``A x + B z`` into ``out`` for table acceleration z [in/s^2].
 
@@ -111,7 +124,7 @@ def specimen_rates(Av, Ac, Ap, Bs, ys, z, out):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, out):
+def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, C_lc, D_lc, lc_own, current, out):
     """Derivative of the table + specimen state; returns the table acceleration z [in/s^2].
 
     Specimen arrays as in :func:`plant_advance` (the general compressed-row
@@ -126,7 +139,9 @@ def coupled_derivative(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, curren
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, dt, nsub, work, filters):
+def plant_advance(
+    pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, C_lc, D_lc, lc_own, current, dt, nsub, work, filters
+):
     """Advance the plant state ``y`` by ``dt`` [s]: ``nsub`` RK4 steps, valve current held [mA].
 
     Specimen arrays of :func:`impedance_mil.lab.plant_interface.specimen_arrays`:
@@ -135,7 +150,8 @@ def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, dt
     coefficients ``osc_k = -omega_i^2`` [1/s^2] and ``osc_c = -2 zeta_i
     omega_i`` [1/s] of a bank of base-excited oscillators (states: relative
     displacements q [in], then velocities q' [in/s]; ``q_i'' = -z + osc_k_i
-    q_i + osc_c_i q_i'``).  Both kinds take the same RK4 stages; the bank
+    q_i + osc_c_i q_i'``) and the load cells' output ``(C_lc, D_lc, lc_own)``
+    the filters of the load-cell channels read (:func:`load_cell_force`).  Both kinds take the same RK4 stages; the bank
     evaluates them in one loop per stage (:func:`advance_bank`), the general
     form in :func:`advance_csr`.  ``work`` is a (5, len(y)) scratch array.
     ``filters`` are the sensors' :class:`~impedance_mil.lab.structures.FilterArrays`
@@ -145,9 +161,9 @@ def plant_advance(pa, y, Av, Ac, Ap, Bs, Cs, Ds, kind, osc_k, osc_c, current, dt
     next sensing (:func:`filter_sense`).
     """
     if kind == SPEC_BANK:
-        advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work, filters)
+        advance_bank(pa, y, Cs, Ds, osc_k, osc_c, C_lc, D_lc, lc_own, current, dt, nsub, work, filters)
     else:
-        advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work, filters)
+        advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, C_lc, D_lc, lc_own, current, dt, nsub, work, filters)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -173,7 +189,7 @@ def bank_inner_stage(ys, tmp, acc, Cs, osc_k, osc_c, z, c):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work, filters):
+def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, C_lc, D_lc, lc_own, current, dt, nsub, work, filters):
     """:func:`plant_advance` for a bank of oscillators (``kind == SPEC_BANK``).
 
     Per RK4 stage one loop over the oscillators evaluates the stage
@@ -195,7 +211,9 @@ def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work, filters):
             ws += Cs[i] * ys[i] + Cs[n + i] * ys[n + i]
         z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current, ws, Ds)
         if j > 0 and n_filters > 0:
-            filter_boundary(filters, pa, z1, x, p1, p2, ws + Ds * z1)
+            filter_boundary(
+                filters, pa, z1, x, p1, p2, load_cell_force(ys, z1, ws + Ds * z1, C_lc, D_lc, lc_own)
+            )
         ws = 0.0
         for i in range(n):
             q, qd = ys[i], ys[n + i]
@@ -247,7 +265,7 @@ def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, current, dt, nsub, work, filters):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work, filters):
+def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, C_lc, D_lc, lc_own, current, dt, nsub, work, filters):
     """:func:`plant_advance` for a general specimen state space (``kind == SPEC_CSR``).
 
     Classical RK4 on :func:`coupled_derivative`, written out with the six
@@ -267,7 +285,9 @@ def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, current, dt, nsub, work, filters)
         ws = specimen_force_state(Cs, ys)
         z1, e1, f1, g1 = table_rates(pa, x, v, p1, p2, s, sd, current, ws, Ds)
         if j > 0 and n_filters > 0:
-            filter_boundary(filters, pa, z1, x, p1, p2, ws + Ds * z1)
+            filter_boundary(
+                filters, pa, z1, x, p1, p2, load_cell_force(ys, z1, ws + Ds * z1, C_lc, D_lc, lc_own)
+            )
         specimen_rates(Av, Ac, Ap, Bs, ys, z1, k1)
         for i in range(m):
             tmp[i] = ys[i] + 0.5 * h * k1[i]

@@ -114,6 +114,10 @@ class SpecimenArrays(NamedTuple):
     ``A_col[...]``).  ``kind`` is ``SPEC_CSR`` or ``SPEC_BANK``
     (:mod:`impedance_mil.lab.stepping`); for a bank of base-excited oscillators
     ``osc_k = -omega^2`` [1/s^2] and ``osc_c = -2 zeta omega`` [1/s].
+    ``w_LC = C_lc x + D_lc z`` [lbf] is what the load cells read (the interface
+    force quantity of the sensors): ``lc_own`` is 0 when it is ``w`` itself
+    (``C_lc``, ``D_lc`` then equal ``C``, ``D``), 1 for a specimen on a mounting
+    (:mod:`impedance_mil.specimens.mounting`) whose load cells read another force.
     Built by :func:`impedance_mil.lab.plant_interface.specimen_arrays`.
     """
 
@@ -126,6 +130,9 @@ class SpecimenArrays(NamedTuple):
     kind: int
     osc_k: np.ndarray
     osc_c: np.ndarray
+    C_lc: np.ndarray
+    D_lc: float
+    lc_own: int
 
 
 class FilterArrays(NamedTuple):

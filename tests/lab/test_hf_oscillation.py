@@ -18,7 +18,7 @@ import math
 import numpy as np
 import pytest
 
-from impedance_mil.campaign.claims import _stability
+from impedance_mil.campaign.claims import run_stability
 from impedance_mil.errors import ConfigError
 from impedance_mil.lab.experiments import run_mil, run_tracking
 from impedance_mil.lab.kernels import hf_window_history
@@ -153,7 +153,7 @@ def test_the_cause_reaches_the_run_file_the_json_and_the_claims(tmp_path):
     assert "hf_oscillation" in summary["abort_reason"]
     saved = load_run(save_run(r, tmp_path / "r.h5"))
     assert saved.trip == r.trip
-    assert _stability({"status": "aborted", "trip_limit": "hf_oscillation"}) == "unstable"
+    assert run_stability({"status": "aborted", "trip_limit": "hf_oscillation"}) == "unstable"
 
 
 def test_the_lti_loop_has_the_detector():
