@@ -390,7 +390,7 @@ def load_lab(
     generic = None
     if isinstance(params, LTITable) and data.get("sensors") is None:
         generic = lti_sensor_ranges(params, where)
-    sensors = sensor_setup(data.get("sensors"), params, controller.adc, where, generic)
+    sensors = sensor_setup(data.get("sensors"), params, controller.adc, where, generic, base)
     sources["sensors"] = sensors.source
     specimen = _specimen(data.get("specimen"), base, where, sources)
     sources["units"] = "file" if units_given else "default"
