@@ -42,7 +42,7 @@ from ..plant.parameters import merge_overrides, ratings_from_report, table_mappi
 from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
 from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
-from .labsensors import Converter, SensorSetup, sensor_setup
+from .labsensors import Converter, SensorSetup, channel_dynamics, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
 from .lti_plant import lti_limits, virtual_table_for
 from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
@@ -255,6 +255,7 @@ class LabSetup:
                         "bandwidth": s.bandwidth_hz,
                         "filter_order": s.filter_order if s.bandwidth_hz is not None else None,
                     }
+                    | channel_dynamics(s)
                     for s in self.sensors.suite.sensors
                 ],
             },

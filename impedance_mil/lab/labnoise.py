@@ -60,7 +60,9 @@ def channel_delay(entry: Mapping[str, Any], loop_time: float, key: str) -> float
         delay = quantity(f"{key}delay", entry["delay"], "second", "nonnegative")
     elif "delay_loops" in entry:
         name = "delay_loops"
-        delay = quantity(f"{key}delay_loops", entry["delay_loops"], "dimensionless", "nonnegative") * loop_time
+        delay = (
+            quantity(f"{key}delay_loops", entry["delay_loops"], "dimensionless", "nonnegative") * loop_time
+        )
     else:
         return 0.0
     if delay > MAX_SENSOR_DELAY_LOOPS * loop_time * (1 + 1e-12):
@@ -94,7 +96,9 @@ def channel_spectrum(
     """
     section = {"kind": value} if isinstance(value, str) else value
     if not isinstance(section, Mapping):
-        raise ConfigError(key.rstrip("."), "a spectrum kind or a table with " + ", ".join(SPECTRUM_KEYS), value)
+        raise ConfigError(
+            key.rstrip("."), "a spectrum kind or a table with " + ", ".join(SPECTRUM_KEYS), value
+        )
     unknown = sorted(set(section) - set(SPECTRUM_KEYS))
     if unknown:
         raise ConfigError(f"{key}{unknown[0]}", "one of the keys " + ", ".join(SPECTRUM_KEYS))
@@ -136,7 +140,9 @@ def _hum(
 ) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """Hum lines [Hz] and their rms [V]: the fundamental ``hum`` and one ``hum_rms`` per harmonic."""
     if ("hum" in section) != ("hum_rms" in section):
-        raise ConfigError(f"{key}hum_rms", "hum (the mains frequency) and hum_rms (one rms per harmonic) together")
+        raise ConfigError(
+            f"{key}hum_rms", "hum (the mains frequency) and hum_rms (one rms per harmonic) together"
+        )
     if "hum" not in section:
         return (), ()
     fundamental = quantity(f"{key}hum", section["hum"], "hertz", "positive")
@@ -144,7 +150,9 @@ def _hum(
     if isinstance(levels, (str, int, float)):
         levels = [levels]
     if not isinstance(levels, list) or not levels:
-        raise ConfigError(f"{key}hum_rms", "a list of rms values, one per harmonic (fundamental first)", levels)
+        raise ConfigError(
+            f"{key}hum_rms", "a list of rms values, one per harmonic (fundamental first)", levels
+        )
     rms = tuple(
         quantity(f"{key}hum_rms[{i}]", v, unit, "nonnegative") * volts_per_unit for i, v in enumerate(levels)
     )
@@ -152,7 +160,9 @@ def _hum(
     nyquist = 0.5 / loop_time
     if hz[-1] >= nyquist:
         raise ConfigError(
-            f"{key}hum_rms", f"harmonics below the loop's Nyquist frequency ({nyquist:g} Hz)", f"{hz[-1]:g} Hz"
+            f"{key}hum_rms",
+            f"harmonics below the loop's Nyquist frequency ({nyquist:g} Hz)",
+            f"{hz[-1]:g} Hz",
         )
     return hz, rms
 
@@ -177,7 +187,9 @@ def read_psd_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
         except ValueError:
             if index == 0:
                 continue  # a header line naming the columns
-            raise DataFileError(path, f"line {n}: expected two numbers (frequency [Hz], PSD), got {line.strip()!r}") from None
+            raise DataFileError(
+                path, f"line {n}: expected two numbers (frequency [Hz], PSD), got {line.strip()!r}"
+            ) from None
         if len(numbers) != 2 or not all(math.isfinite(x) for x in numbers):
             raise DataFileError(path, f"line {n}: expected two finite numbers (frequency [Hz], PSD)")
         rows.append((numbers[0], numbers[1]))
@@ -185,7 +197,9 @@ def read_psd_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
         raise DataFileError(path, "expected at least two rows of frequency [Hz], PSD")
     f, s = (np.array(c) for c in zip(*rows))
     if np.any(f <= 0) or np.any(np.diff(f) <= 0):
-        raise DataFileError(path, "expected positive, strictly increasing frequencies [Hz] in the first column")
+        raise DataFileError(
+            path, "expected positive, strictly increasing frequencies [Hz] in the first column"
+        )
     if np.any(s <= 0):
         raise DataFileError(path, "expected positive PSD values in the second column (interpolated log-log)")
     return f, s

@@ -267,6 +267,27 @@ def _with_dynamics(
     return replace(sensor, delay_s=delay, noise_rms_v=noise, noise_spectrum=spectrum)
 
 
+def channel_dynamics(sensor: Sensor) -> dict[str, Any]:
+    """The delay [s] and noise spectrum of a channel for ``imil lab show`` (empty when it has neither).
+
+    Keys carry their unit suffix (``delay_s``, ``corner_hz``, ``hum_hz``);
+    ``hum_rms`` is in the channel's ``unit``; a PSD table is named by its file.
+    """
+    out: dict[str, Any] = {}
+    if sensor.delay_s > 0:
+        out["delay_s"] = sensor.delay_s
+    spectrum = sensor.noise_spectrum
+    if spectrum is not None:
+        out["noise_spectrum"] = {
+            "kind": spectrum.kind,
+            "corner_hz": spectrum.corner_hz,
+            "file": spectrum.source or None,
+            "hum_hz": list(spectrum.hum_hz),
+            "hum_rms": [abs(sensor.scale) * a for a in spectrum.hum_rms_v],
+        }
+    return out
+
+
 def _bits_for(codes: float) -> int:
     """Fewest bits whose codes cover ``codes`` steps."""
     bits = 2

@@ -29,8 +29,8 @@ from .lti_plant import LTIVirtualTable, check_feedback, lti_arrays, lti_limits, 
 from .setup import (
     SafetyLimits,
     accelerometer_noise,
-    default_sensors,
     coloured_noise,
+    default_sensors,
     draw_noise,
     output_line,
     sensor_arrays,
@@ -237,7 +237,9 @@ class VirtualTable(_CompiledPlant):
             table=table.parameter_array(),
             y=np.zeros(n),
             specimen=spec,
-            sensors=sensor_arrays(self.sensors, feedback, quantize, self.loop_time / self.substeps, self.loop_time),
+            sensors=sensor_arrays(
+                self.sensors, feedback, quantize, self.loop_time / self.substeps, self.loop_time
+            ),
             limits=(limits or SafetyLimits()).kernel_values(table, accelerometer_noise(self.sensors)),
             substeps=self.substeps,
             noise=np.zeros((1, self.sensors.n_channels), np.float32),

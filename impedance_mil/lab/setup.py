@@ -127,16 +127,18 @@ def coloured_noise(
     block and the row-by-row renderings agree.  Channels in suite order, each
     from the same child stream in turn.
     """
-    coloured = [(i, s) for i, s in enumerate(suite.sensors) if s.noise_spectrum is not None]
+    coloured = [(i, s, s.noise_spectrum) for i, s in enumerate(suite.sensors) if s.noise_spectrum is not None]
     if not coloured:
         return None
     if loop_time_s is None or not (np.isfinite(loop_time_s) and loop_time_s > 0):
-        raise ConfigError("loop_time_s", "the loop time [s] at which the coloured noise is sampled", loop_time_s)
+        raise ConfigError(
+            "loop_time_s", "the loop time [s] at which the coloured noise is sampled", loop_time_s
+        )
     child = rng.spawn(1)[0]
     block = np.empty((NOISE_PERIOD_LOOPS, len(coloured)), np.float32)
-    for j, (_, s) in enumerate(coloured):
-        block[:, j] = unit_noise_block(s.noise_spectrum, s.noise_rms_v, loop_time_s, child)
-    return ColouredNoise(np.array([i for i, _ in coloured], dtype=np.int64), block)
+    for j, (_, s, spectrum) in enumerate(coloured):
+        block[:, j] = unit_noise_block(spectrum, s.noise_rms_v, loop_time_s, child)
+    return ColouredNoise(np.array([i for i, _, _ in coloured], dtype=np.int64), block)
 
 
 #: Longest converter delay of a channel [loops] (the ring of :class:`DelayArrays` holds this many + 2).

@@ -205,7 +205,13 @@ class DelayArrays(NamedTuple):
         """No delays (nd = 0): every channel reads its value at once."""
         index = np.zeros(0, np.int64)
         return cls(
-            index, index.copy(), index.copy(), np.zeros(0), np.zeros((0, 2)), np.zeros(1, np.int64), np.zeros(1, np.int64)
+            index,
+            index.copy(),
+            index.copy(),
+            np.zeros(0),
+            np.zeros((0, 2)),
+            np.zeros(1, np.int64),
+            np.zeros(1, np.int64),
         )
 
     def reset(self) -> None:

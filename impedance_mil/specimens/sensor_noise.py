@@ -17,8 +17,15 @@ with its own rms [V].  The broadband part carries the rest of the total:
 
 :func:`unit_noise_block` synthesizes one period of the noise, in units of
 ``noise_rms_v`` (so that the sensing kernel's ``noise_rms * draw`` is
-unchanged), by shaping complex white Gaussian numbers in the frequency
-domain on the DFT grid of :data:`NOISE_PERIOD_LOOPS` loops.  The block is
+unchanged), in the frequency domain on the DFT grid of
+:data:`NOISE_PERIOD_LOOPS` loops: each bin has the amplitude of the
+requested PSD and a seeded random phase (a random-phase multisine, as
+shaker controllers synthesize random vibration).  Its periodogram over the
+period is the requested PSD in every bin, without the chi-square scatter of
+shaped white noise, and its rms is the stated one; its values are Gaussian
+by the central limit theorem (tens of thousands of bins), but the amplitude
+of a bin does not fluctuate from one realization to the next as a recorded
+noise's would.  The block is
 circular: a run longer than the period repeats it without a seam.  The mean
 (DC bin) is zero; a hum line sits on the DFT bin nearest its frequency
 (within half a bin, 1 / (2 P T): 0.004 Hz at a 1 ms loop) with a seeded
@@ -78,13 +85,17 @@ class NoiseSpectrum:
             raise ConfigError("noise_spectrum.kind", " or ".join(SPECTRUM_KINDS), self.kind)
         if self.kind == "pink":
             if self.corner_hz is None or not (math.isfinite(self.corner_hz) and self.corner_hz > 0):
-                raise ConfigError("noise_spectrum.corner", "a positive 1/f corner frequency [Hz]", self.corner_hz)
+                raise ConfigError(
+                    "noise_spectrum.corner", "a positive 1/f corner frequency [Hz]", self.corner_hz
+                )
         elif self.corner_hz is not None:
             raise ConfigError("noise_spectrum.corner", "no corner except with kind = 'pink'", self.corner_hz)
         f, s = np.asarray(self.frequencies_hz, float), np.asarray(self.psd, float)
         if self.kind == "table":
             if f.size < 2 or f.size != s.size:
-                raise ConfigError("noise_spectrum.file", "at least two rows of frequency [Hz] and PSD", f.size)
+                raise ConfigError(
+                    "noise_spectrum.file", "at least two rows of frequency [Hz] and PSD", f.size
+                )
             if not (np.all(np.isfinite(f)) and np.all(f > 0) and np.all(np.diff(f) > 0)):
                 raise ConfigError("noise_spectrum.file", "positive, strictly increasing frequencies [Hz]")
             if not (np.all(np.isfinite(s)) and np.all(s > 0)):
@@ -130,7 +141,9 @@ class NoiseSpectrum:
         nyquist = 0.5 / loop_time_s
         for h in self.hum_hz:
             if h >= nyquist:
-                raise ConfigError(f"{where}.hum", f"hum lines below the loop's Nyquist frequency ({nyquist:g} Hz)", h)
+                raise ConfigError(
+                    f"{where}.hum", f"hum lines below the loop's Nyquist frequency ({nyquist:g} Hz)", h
+                )
 
 
 def dft_frequencies(loop_time_s: float) -> np.ndarray:
@@ -172,9 +185,11 @@ def unit_noise_block(
     amplitude = np.sqrt(spectrum.shape(f))
     bins = [int(round(h * n * loop_time_s)) for h in spectrum.hum_hz]
     amplitude[bins] = 0.0  # the lines own their bins (orthogonal to the broadband part)
-    draws = rng.standard_normal((2, f.size))
-    spectrum_bins = amplitude * (draws[0] + 1j * draws[1])
-    spectrum_bins[-1] = spectrum_bins[-1].real  # the Nyquist bin of an even period is real
+    phases = rng.uniform(0.0, 2.0 * math.pi, f.size)
+    spectrum_bins = amplitude * np.exp(1j * phases)
+    spectrum_bins[-1] = amplitude[-1] * np.sign(
+        np.cos(phases[-1])
+    )  # the Nyquist bin of an even period is real
     broadband = np.fft.irfft(spectrum_bins, n)
     power = float(np.mean(broadband**2))
     block = np.zeros(n)
