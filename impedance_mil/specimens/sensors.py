@@ -3,7 +3,9 @@
 Each sensor maps a physical value to volts with its calibration
 (``value = scale * volts + offset``, Table 7.1), optionally passes it through
 an analog anti-alias filter (:meth:`Sensor.anti_alias_filter`, a Butterworth
-low-pass of ``bandwidth_hz``; the report's channels have none), adds white noise [V rms],
+low-pass of ``bandwidth_hz``; the report's channels have none) and a
+converter delay (``delay_s``), adds noise [V rms] (white, or shaped by a
+:class:`~.sensor_noise.NoiseSpectrum`),
 saturates at its conditioner limit (+-10 V) and is read by a 16-bit
 analog input over +-10 V (Section 7.2.2: "All input/outputs are +-10 V
 analog with 16-bit resolution"), then converted back to the physical value.
@@ -365,6 +367,9 @@ class SensorSuite:
 
     def measure(self, values, rng: np.random.Generator | None = None) -> SensorReadings:
         """Readings for true channel values (plain numpy; the reference for :func:`measure_kernel`).
+
+        Static: the anti-alias filters, converter delays and noise spectra act
+        over time, in the lab's loop (:mod:`impedance_mil.lab.setup`), not here.
 
         Parameters
         ----------
