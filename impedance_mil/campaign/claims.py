@@ -298,10 +298,14 @@ def _worse_than(key: str, worse: float, better: float, label: str, **where: Any)
 
 def _fc_instability(rows: SummaryTable) -> tuple:
     """Footnote 22: at 42 in, tracking is stable up to f_c = 100 Hz and unstable above."""
-    state = {row.get("f_c"): run_stability(row) for row in rows.where(water_depth=42.0).rows}
+    state: dict[float, str | None] = {
+        float(row["f_c"]): run_stability(row)
+        for row in rows.where(water_depth=42.0).rows
+        if isinstance(row.get("f_c"), (int, float))
+    }
     x, y = _points(rows, "f_c", "hf_ratio", water_depth=42.0)
-    below = [f for f in state if isinstance(f, float) and f <= 100.0]
-    above = [f for f in state if isinstance(f, float) and f > 100.0]
+    below = [f for f in state if f <= 100.0]
+    above = [f for f in state if f > 100.0]
     if 100.0 not in state or not above:
         return NOT_RUN, "the 42 in runs at f_c = 100 Hz and above are missing", (), "", "", False
     ok = all(state[f] == "stable" for f in below) and all(state[f] == "unstable" for f in above)

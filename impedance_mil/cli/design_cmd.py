@@ -52,7 +52,7 @@ from ..design.robust import DEFAULT_LHS_SAMPLES, robust_margins
 from ..display import UnitSystem, display_unit
 from ..errors import ConfigError
 from ..lab.labfile import LabSetup, load_lab
-from ..lab.robust import article_impedance, lab_article, require_uncertainty
+from ..lab.robust import article_impedance, lab_article, lab_force_sensor, require_uncertainty
 from ..plant import TableParameters
 from ..plant.frf_table import FRFTable, read_frf_table
 from ..plant.lti_table import LTITable
@@ -405,6 +405,7 @@ def design(
             samples=robust_samples,
             seed=robust_seed,
             criteria=criteria,
+            force_sensor=lab_force_sensor(setup.sensors.suite, setup.controller.feedback),
         )
     measured = _measured_checks(result, measured_frf, tm, vm, frf_kw)
     study = _mass_ratio_rows(tm, vs, sets_vs, spec, lin, ratios, form, criteria, fcs[0]) if ratios else []

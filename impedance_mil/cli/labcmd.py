@@ -89,6 +89,8 @@ def show(
                 if ch.get("bandwidth") is None
                 else f", anti-alias {ch['bandwidth']:g} Hz (order {ch['filter_order']})"
             )
+            + ("" if ch.get("delay_s") is None else f", delay {ch['delay_s'] * 1e3:g} ms")
+            + ("" if ch.get("noise_spectrum") is None else f", {ch['noise_spectrum']['kind']} noise spectrum")
         )
 
 

@@ -52,6 +52,7 @@ from .forms import VirtualModel, environment
 from .optimized.indices import sampled_margin_deg
 from .optimized.models import SAMPLED_TOP_FRACTION
 from .passivity import passivity
+from .sensor_channels import sensed_impedance
 
 #: Latin-hypercube points evaluated besides the vertices, unless asked otherwise.
 DEFAULT_LHS_SAMPLES = 16
@@ -236,6 +237,7 @@ def point_margins(
     point: Mapping[str, float],
     specimen: str = "",
     criteria: DesignCriteria | None = None,
+    force_sensor: TransferFunction | None = None,
 ) -> PointMargins:
     """The margins of ``design`` on the table ``params`` (a point of the set) with ``article``.
 
@@ -255,6 +257,12 @@ def point_margins(
         Label of the article.
     criteria : DesignCriteria, optional
         The passivity band's low end [Hz] and extra tolerance [deg].
+    force_sensor : TransferFunction, optional
+        ``S_w(s)``, measured over true fed-back force (anti-alias filters and
+        converter delays, :func:`~impedance_mil.design.sensor_channels.force_channel`):
+        the coupled stability is then judged on ``H_zw + H_zu H_wu S_w``
+        (:func:`~impedance_mil.design.sensor_channels.sensed_impedance`).
+        None: ideal channels, ``H_c`` as designed.
     """
     c = criteria or DesignCriteria()
     # a table with optional dynamics (issue 17) is judged on its linearization, which has them
@@ -287,7 +295,7 @@ def point_margins(
         pas.tolerant_margin_deg,
         pas.stable,
         sampled,
-        coupled_stability(ct.H_c, article, specimen),
+        coupled_stability(sensed_impedance(ct, force_sensor), article, specimen),
     )
 
 
@@ -302,6 +310,7 @@ def robust_margins(
     samples: int = DEFAULT_LHS_SAMPLES,
     seed: int = 0,
     criteria: DesignCriteria | None = None,
+    force_sensor: TransferFunction | None = None,
 ) -> RobustMargins:
     """Worst-case passivity and coupled-stability margins of ``design`` over ``uncertainty``.
 
@@ -324,6 +333,8 @@ def robust_margins(
     seed : int
         Seed of the sample.
     criteria : DesignCriteria, optional
+    force_sensor : TransferFunction, optional
+        The fed-back force's sensor dynamics (:func:`point_margins`); None: ideal.
 
     Examples
     --------
@@ -344,7 +355,9 @@ def robust_margins(
     z = article if article is not None else zero
 
     def at(point: Mapping[str, float]) -> PointMargins:
-        return point_margins(design, uncertainty.apply(params, point), vs, z, point, specimen, criteria)
+        return point_margins(
+            design, uncertainty.apply(params, point), vs, z, point, specimen, criteria, force_sensor
+        )
 
     nominal = at(uncertainty.nominal())
     corners = uncertainty.vertices()

@@ -5,7 +5,7 @@ The kernels of one tick (the order is written once, in
 
 1. **sense** (:func:`plant_sense`): the sensors of a
    :class:`~impedance_mil.specimens.sensors.SensorSuite` read the plant at t_k
-   (Table 7.1 calibration, an optional anti-alias filter, noise, 16-bit
+   (Table 7.1 calibration, an optional anti-alias filter and converter delay, noise, 16-bit
    quantization, range): ``x``, ``dP``,
    ``z`` and the load-cell force ``w_LC``; ``w_FE = m_st z - A_p dP`` from force
    equilibrium (Section 8.3.2);
@@ -67,6 +67,8 @@ from .stepping import (
     SPEC_BANK,
     SPEC_CSR,
     coupled_derivative,
+    delay_sense,
+    delayed_value,
     filter_sense,
     load_cell_force,
     plant_advance,
@@ -122,6 +124,22 @@ def measure_quantities(sensors, noise_row, readings, time_s, mass, area):
             c = f.channel[i]
             readings[c] = read_channel(
                 f.state[i, 0],
+                noise_row[c],
+                sensors.scale[c],
+                sensors.offset[c],
+                sensors.noise_rms[c],
+                sensors.lsb[c],
+                sensors.v_low[c],
+                sensors.v_high[c],
+            )
+    d = sensors.delays
+    if d.channel.shape[0] > 0:
+        # A delayed channel reads its analog value (filtered or true) some loops back.
+        delay_sense(d, f, q, sensors.gain, sensors.quantity_index)
+        for i in range(d.channel.shape[0]):
+            c = d.channel[i]
+            readings[c] = read_channel(
+                delayed_value(d, i),
                 noise_row[c],
                 sensors.scale[c],
                 sensors.offset[c],

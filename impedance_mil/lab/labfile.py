@@ -50,7 +50,7 @@ from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .calibration_record import CalibrationRecord, parse_calibration
 from .dynamics_file import DYNAMICS_PARSERS, DynamicsSetup, parse_dynamics
-from .labsensors import Converter, SensorSetup, sensor_setup
+from .labsensors import Converter, SensorSetup, channel_dynamics, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
 from .lti_plant import lti_limits, virtual_table_for
 from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
@@ -282,6 +282,7 @@ class LabSetup:
                         "bandwidth": s.bandwidth_hz,
                         "filter_order": s.filter_order if s.bandwidth_hz is not None else None,
                     }
+                    | channel_dynamics(s)
                     for s in self.sensors.suite.sensors
                 ],
             },
@@ -436,7 +437,7 @@ def load_lab(
     generic = None
     if isinstance(params, LTITable) and data.get("sensors") is None:
         generic = lti_sensor_ranges(params, where)
-    sensors = sensor_setup(data.get("sensors"), params, controller.adc, where, generic)
+    sensors = sensor_setup(data.get("sensors"), params, controller.adc, where, generic, base)
     sources["sensors"] = sensors.source
     specimen = _specimen(data.get("specimen"), base, where, sources)
     sources["units"] = "file" if units_given else "default"

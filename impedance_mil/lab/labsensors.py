@@ -33,6 +33,10 @@ Nyquist frequency of the controller's loop, 1 / (2 loop_time), is accepted (a
 real conditioner may be set so, and its lag is then modelled) with a
 :class:`~impedance_mil.plausibility.PlausibilityWarning`: such a filter does
 not prevent aliasing.
+
+A channel may also have a converter / conditioner group delay (``delay =
+"0.3 ms"`` or ``delay_loops = 0.3``) and a noise spectrum (``noise_spectrum``,
+white + 1/f, mains hum lines or a measured PSD file): :mod:`.labnoise`.
 """
 
 from __future__ import annotations
@@ -40,6 +44,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any, cast
 
 from ..config import quantity
@@ -48,6 +53,7 @@ from ..plant import TableParameters
 from ..plant.lti_table import LTITable
 from ..plausibility import PlausibilityWarning
 from ..specimens.sensors import FILTER_ORDERS, Sensor, SensorSuite
+from .labnoise import channel_delay, channel_spectrum
 from .setup import DEFAULT_NOISE_V, default_sensors
 
 #: What a clipped channel does: ``warn`` (the run goes on, the summary records it) or ``fail``.
@@ -75,6 +81,9 @@ _CHANNEL_KEYS = (
     "share",
     "bandwidth",
     "filter_order",
+    "delay",
+    "delay_loops",
+    "noise_spectrum",
 )
 
 
@@ -127,11 +136,13 @@ def sensor_setup(
     adc: Converter,
     where: str,
     generic: Mapping[str, float] | None = None,
+    base: Path | None = None,
 ) -> SensorSetup:
     """The :class:`SensorSetup` of a ``[sensors]`` section (None: :func:`generic_sensors`).
 
     ``generic``: the generic channels' full scales when they are not sized from
     ``table``'s physical parameters (an LTI table); ``table`` then gives only its loop time.
+    ``base``: the folder a channel's noise PSD file is read from (the lab file's).
     """
     if section is None:
         if generic is None and isinstance(table, LTITable):
@@ -160,7 +171,8 @@ def sensor_setup(
         if not isinstance(entry, Mapping):
             raise ConfigError(f"{where}sensors.{name}", "a table with " + ", ".join(_CHANNEL_KEYS), entry)
         sensor = _channel(name, entry, adc, f"{where}sensors.{name}.")
-        sensors.append(_with_filter(sensor, entry, table.loop_time, f"{where}sensors.{name}."))
+        sensor = _with_filter(sensor, entry, table.loop_time, f"{where}sensors.{name}.")
+        sensors.append(_with_dynamics(sensor, entry, table.loop_time, base, f"{where}sensors.{name}."))
     return SensorSetup(SensorSuite(tuple(sensors)), clipping, "file")
 
 
@@ -227,6 +239,53 @@ def _with_filter(sensor: Sensor, entry: Mapping[str, Any], loop_time: float, key
             stacklevel=4,
         )
     return replace(sensor, bandwidth_hz=bandwidth, filter_order=int(order))
+
+
+def _with_dynamics(
+    sensor: Sensor, entry: Mapping[str, Any], loop_time: float, base: Path | None, key: str
+) -> Sensor:
+    """``sensor`` with the entry's converter delay and noise spectrum, if any (:mod:`.labnoise`).
+
+    A PSD table without ``noise`` sets the channel's total rms to the table's
+    own over 0 ... the loop's Nyquist frequency, plus its hum lines.
+    """
+    delay = channel_delay(entry, loop_time, key)
+    if "noise_spectrum" not in entry:
+        return replace(sensor, delay_s=delay) if delay > 0 else sensor
+    volts_per_unit = 1.0 / abs(sensor.scale)
+    spectrum = channel_spectrum(
+        entry["noise_spectrum"], sensor.unit, volts_per_unit, loop_time, base, f"{key}noise_spectrum."
+    )
+    noise = sensor.noise_rms_v
+    if spectrum.kind == "table" and "noise" not in entry:
+        noise = (spectrum.table_power(loop_time) + spectrum.hum_power) ** 0.5
+    if spectrum.hum_power > noise**2 * (1 + 1e-12):
+        raise ConfigError(
+            f"{key}noise_spectrum.hum_rms",
+            f"hum lines whose total rms is within the channel's noise ({noise / volts_per_unit:.6g} {sensor.unit})",
+        )
+    return replace(sensor, delay_s=delay, noise_rms_v=noise, noise_spectrum=spectrum)
+
+
+def channel_dynamics(sensor: Sensor) -> dict[str, Any]:
+    """The delay [s] and noise spectrum of a channel for ``imil lab show`` (empty when it has neither).
+
+    Keys carry their unit suffix (``delay_s``, ``corner_hz``, ``hum_hz``);
+    ``hum_rms`` is in the channel's ``unit``; a PSD table is named by its file.
+    """
+    out: dict[str, Any] = {}
+    if sensor.delay_s > 0:
+        out["delay_s"] = sensor.delay_s
+    spectrum = sensor.noise_spectrum
+    if spectrum is not None:
+        out["noise_spectrum"] = {
+            "kind": spectrum.kind,
+            "corner_hz": spectrum.corner_hz,
+            "file": spectrum.source or None,
+            "hum_hz": list(spectrum.hum_hz),
+            "hum_rms": [abs(sensor.scale) * a for a in spectrum.hum_rms_v],
+        }
+    return out
 
 
 def _bits_for(codes: float) -> int:

@@ -223,7 +223,7 @@ def simulate(
         check_feedback(table, feedback)
     nsub, sub_cfg = resolve_substeps(substeps, table, specimen)
     sensors = sensors or default_sensors()
-    sens = sensor_arrays(sensors, feedback, quantize, table.loop_time / nsub)
+    sens = sensor_arrays(sensors, feedback, quantize, table.loop_time / nsub, table.loop_time)
     limits = limits or SafetyLimits()
     lti_lim = lti_limits(limits, table, accelerometer_noise(sensors)) if lti else None
     mode, ag, cmd = _mode_and_inputs(command, a_g, runtime, table.loop_time)
@@ -261,7 +261,7 @@ def simulate(
         )
         return replace(result, config=cfg)
     n = ag.size
-    noise = draw_noise(np.random.default_rng(seed), sensors, n)
+    noise = draw_noise(np.random.default_rng(seed), sensors, n, table.loop_time)
     ctrl, vs_tick, vs = _controller_arrays(runtime)
     control = LoopControl(mode, _FEEDBACK[feedback], ag, cmd, float(table.loop_time), ctrl, vs)
     log = Records.allocate(n, vs.x.size)

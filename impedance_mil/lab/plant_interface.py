@@ -30,6 +30,7 @@ from .lti_plant import LTIVirtualTable, check_feedback, lti_arrays, lti_limits, 
 from .setup import (
     SafetyLimits,
     accelerometer_noise,
+    coloured_noise,
     default_sensors,
     draw_noise,
     output_line,
@@ -157,10 +158,12 @@ class _CompiledPlant:
         return self.plant.y
 
     def _restart(self) -> None:
-        """Filters unprimed, output delay empty, noise from its seed, clock at zero."""
+        """Filters and converter delays unprimed, output delay empty, noise from its seed, clock at zero."""
         self.plant.sensors.filters.reset()
+        self.plant.sensors.delays.reset()
         self.plant.output_line[:] = 0.0
         self._rng = np.random.default_rng(self.seed)
+        self._colour = coloured_noise(self._rng, self.sensors, self.loop_time)
         self._tick = 0
         self._read: tuple | None = None
         self.trip_value = float("nan")
@@ -173,6 +176,8 @@ class _CompiledPlant:
         """This loop's ``(Measurements, TripCause, value)``, sensed once per loop."""
         if self._read is None:
             self.plant.noise[0] = draw_noise(self._rng, self.sensors)
+            if self._colour is not None:
+                self.plant.noise[0, self._colour.channel] = self._colour.row(self._tick)
             self._read = self._sense_and_check(self.plant, self.plant.noise[0], self.time_s)
         return self._read
 
@@ -242,7 +247,9 @@ class VirtualTable(_CompiledPlant):
             table=table.parameter_array(),
             y=np.zeros(n),
             specimen=spec,
-            sensors=sensor_arrays(self.sensors, feedback, quantize, self.loop_time / self.substeps),
+            sensors=sensor_arrays(
+                self.sensors, feedback, quantize, self.loop_time / self.substeps, self.loop_time
+            ),
             limits=(limits or SafetyLimits()).kernel_values(table, accelerometer_noise(self.sensors)),
             substeps=self.substeps,
             noise=np.zeros((1, self.sensors.n_channels), np.float32),
@@ -355,7 +362,7 @@ class VirtualLTITable(_CompiledPlant):
         self.plant = lti_plant(
             self.table,
             specimen,
-            sensor_arrays(self.sensors, feedback, quantize, self.loop_time / self.substeps),
+            sensor_arrays(self.sensors, feedback, quantize, self.loop_time / self.substeps, self.loop_time),
             lti_limits(limits or SafetyLimits(), self.table, accelerometer_noise(self.sensors)).values,
             self.substeps,
             np.zeros((1, self.sensors.n_channels), np.float32),

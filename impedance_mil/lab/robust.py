@@ -16,10 +16,12 @@ from collections.abc import Mapping
 from ..design import virtual_model
 from ..design.forms import VirtualModel
 from ..design.robust import DEFAULT_LHS_SAMPLES, RobustMargins, robust_margins
+from ..design.sensor_channels import force_channel
 from ..errors import ConfigError
 from ..plant import TableParameters
 from ..plant.uncertainty import UncertaintySet
 from ..report_config import report_config
+from ..specimens.sensors import SensorSuite
 from ..systems import TransferFunction
 from .choices import Choices, choose_specimen, mounted_choice, with_lab_defaults
 from .descriptions import SpecimenChoice, TrackingTest
@@ -42,6 +44,17 @@ def article_impedance(specimen: SpecimenChoice) -> TransferFunction:
 def test_vs_model(test: TrackingTest) -> VirtualModel | None:
     """The VS model a test's design answers to: the run's (``open-fh``, as ``lab.experiments.mil_design``)."""
     return None if test.vs is None else virtual_model(test.vs, linearization="open-fh")
+
+
+def lab_force_sensor(suite: SensorSuite | None, feedback: str) -> TransferFunction | None:
+    """The fed-back force's channel model ``S_w`` of a lab's sensors (None: no filter or delay on it).
+
+    :func:`~impedance_mil.design.sensor_channels.force_channel` of the
+    channels ``suite`` (None: the Table 7.1 channels, which have neither) for
+    ``feedback`` (``lc`` or ``fe``): only a lab that gives its force channels
+    a ``bandwidth`` or a ``delay`` changes the coupled-stability check.
+    """
+    return None if suite is None else force_channel(suite, feedback)
 
 
 def require_uncertainty(uncertainty: UncertaintySet | None, option: str) -> UncertaintySet:
@@ -74,6 +87,7 @@ def test_robustness(
         test.specimen.label,
         samples=samples,
         seed=seed,
+        force_sensor=lab_force_sensor(test.lab.sensors, test.controller.feedback.channel),
     )
 
 

@@ -69,6 +69,38 @@ def filter_sense(f, quantities):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def delay_sense(d, f, quantities, gain, quantity_index):
+    """Push each delayed channel's analog value at this sensing into its ring of :class:`DelayArrays` ``d``.
+
+    The analog value is the output of the channel's anti-alias filter
+    (``f``, already brought to this instant by :func:`filter_sense`) when it
+    has one, else ``gain * quantities[quantity_index]`` of the channel.  At
+    the first sensing the rings are filled with it (the table at rest).
+    """
+    n = d.line.shape[1]
+    head = (d.head[0] + 1) % n if d.primed[0] else 0
+    for i in range(d.channel.shape[0]):
+        c = d.channel[i]
+        k = d.filter_index[i]
+        a = f.state[k, 0] if k >= 0 else gain[c] * quantities[quantity_index[c]]
+        if d.primed[0]:
+            d.line[i, head] = a
+        else:
+            d.line[i, :] = a
+    d.head[0] = head
+    d.primed[0] = 1
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def delayed_value(d, i):
+    """Delayed analog value of entry ``i`` of ``d``: ``whole + frac`` loops back, linear between the loops."""
+    n = d.line.shape[1]
+    newer = d.line[i, (d.head[0] - d.whole[i] + n) % n]
+    older = d.line[i, (d.head[0] - d.whole[i] - 1 + n) % n]
+    return newer + d.frac[i] * (older - newer)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def filter_boundary(f, pa, z, x, p1, p2, w):
     """The filters over one substep, to the true values at its end (z [in/s^2], x [in], p1, p2 [psi], w [lbf])."""
     dp = p1 - p2

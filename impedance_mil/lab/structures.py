@@ -185,6 +185,49 @@ class FilterArrays(NamedTuple):
         self.primed[:] = 0
 
 
+class DelayArrays(NamedTuple):
+    """The channels' converter / conditioner delays for the sensing kernel, one entry per delayed channel.
+
+    Channel ``channel[i]`` reads its analog value (the filter's output when it
+    has a filter, ``filter_index[i]`` >= 0, else the true value) delayed by
+    ``whole[i] + frac[i]`` loops: a ring ``line`` (nd, L) of the analog
+    values at the last L sensings (``head`` (1,) the slot of the newest),
+    read at ``whole`` and ``whole + 1`` loops back and interpolated linearly
+    with the weight ``frac`` on the older one.  ``primed`` (1,) is 0 until
+    the first sensing fills each ring with its value (the table has stood at
+    rest).  Built by :func:`impedance_mil.lab.setup.delay_arrays`; a suite
+    without delays has nd = 0.
+    """
+
+    channel: np.ndarray
+    filter_index: np.ndarray
+    whole: np.ndarray
+    frac: np.ndarray
+    line: np.ndarray
+    head: np.ndarray
+    primed: np.ndarray
+
+    @classmethod
+    def none(cls) -> DelayArrays:
+        """No delays (nd = 0): every channel reads its value at once."""
+        index = np.zeros(0, np.int64)
+        return cls(
+            index,
+            index.copy(),
+            index.copy(),
+            np.zeros(0),
+            np.zeros((0, 2)),
+            np.zeros(1, np.int64),
+            np.zeros(1, np.int64),
+        )
+
+    def reset(self) -> None:
+        """Back to unprimed: the next sensing fills each ring with its value."""
+        self.line[:] = 0.0
+        self.head[:] = 0
+        self.primed[:] = 0
+
+
 class SensorArrays(NamedTuple):
     """A :class:`~impedance_mil.specimens.sensors.SensorSuite` for the sensing kernel.
 
@@ -195,7 +238,8 @@ class SensorArrays(NamedTuple):
     ``dp_channel`` are the first channels measuring the table acceleration,
     displacement and differential pressure; ``quantities`` is the scratch the
     kernel fills with the true quantities before measuring them; ``filters``
-    the channels' anti-alias filters (:class:`FilterArrays`).  Built by
+    the channels' anti-alias filters (:class:`FilterArrays`), ``delays`` their
+    converter delays (:class:`DelayArrays`).  Built by
     :func:`impedance_mil.lab.setup.sensor_arrays`.
     """
 
@@ -213,6 +257,7 @@ class SensorArrays(NamedTuple):
     dp_channel: int
     quantities: np.ndarray
     filters: FilterArrays
+    delays: DelayArrays
 
 
 class LimitValues(NamedTuple):

@@ -3,7 +3,9 @@
 Each sensor maps a physical value to volts with its calibration
 (``value = scale * volts + offset``, Table 7.1), optionally passes it through
 an analog anti-alias filter (:meth:`Sensor.anti_alias_filter`, a Butterworth
-low-pass of ``bandwidth_hz``; the report's channels have none), adds white noise [V rms],
+low-pass of ``bandwidth_hz``; the report's channels have none) and a
+converter delay (``delay_s``), adds noise [V rms] (white, or shaped by a
+:class:`~.sensor_noise.NoiseSpectrum`),
 saturates at its conditioner limit (+-10 V) and is read by a 16-bit
 analog input over +-10 V (Section 7.2.2: "All input/outputs are +-10 V
 analog with 16-bit resolution"), then converted back to the physical value.
@@ -42,6 +44,7 @@ from ..errors import ConfigError
 from ..lazy import lazy_attributes
 from ..lti import StateSpace
 from ..units import G0, TWO_PI
+from .sensor_noise import NoiseSpectrum
 
 #: Resolution of the RMC75E analog inputs [bits] (Section 7.2.2).
 ADC_BITS = 16
@@ -102,6 +105,13 @@ class Sensor:
         noise, saturation and quantization; None (the report's channels): no filter.
     filter_order : int
         Order of that filter, 1 or 2 (default 2); only with ``bandwidth_hz``.
+    delay_s : float
+        Group delay [s] of the converter or signal conditioner (>= 0, default 0):
+        the reading at t is of the (filtered) analog value at ``t - delay_s``,
+        before noise and quantization (:meth:`transfer_function`).
+    noise_spectrum : NoiseSpectrum, optional
+        Shape of the noise (:mod:`.sensor_noise`); ``noise_rms_v`` stays its
+        total rms over 0 ... the loop's Nyquist frequency.  None: white noise.
     """
 
     name: str
@@ -116,6 +126,8 @@ class Sensor:
     adc_range_v: float = ADC_RANGE_V
     bandwidth_hz: float | None = None
     filter_order: int = 2
+    delay_s: float = 0.0
+    noise_spectrum: NoiseSpectrum | None = None
 
     def __post_init__(self):
         if self.quantity not in QUANTITIES:
@@ -138,6 +150,10 @@ class Sensor:
             )
         if self.filter_order not in FILTER_ORDERS or isinstance(self.filter_order, bool):
             raise ConfigError(f"{self.name}.filter_order", "1 or 2", self.filter_order)
+        if not (math.isfinite(self.delay_s) and self.delay_s >= 0):
+            raise ConfigError(f"{self.name}.delay", "a delay >= 0 [s]", self.delay_s)
+        if self.noise_spectrum is not None and not isinstance(self.noise_spectrum, NoiseSpectrum):
+            raise ConfigError(f"{self.name}.noise_spectrum", "a NoiseSpectrum", self.noise_spectrum)
 
     def anti_alias_filter(self) -> StateSpace | None:
         """The channel's analog anti-alias filter, a continuous Butterworth low-pass (None: no filter).
@@ -352,6 +368,9 @@ class SensorSuite:
     def measure(self, values, rng: np.random.Generator | None = None) -> SensorReadings:
         """Readings for true channel values (plain numpy; the reference for :func:`measure_kernel`).
 
+        Static: the anti-alias filters, converter delays and noise spectra act
+        over time, in the lab's loop (:mod:`impedance_mil.lab.setup`), not here.
+
         Parameters
         ----------
         values : array_like, (..., n_channels)
@@ -380,7 +399,17 @@ class SensorSuite:
 
     def to_dict(self) -> dict:
         """Plain description of every channel."""
-        return {"sensors": [asdict(s) for s in self.sensors]}
+        return {"sensors": [_sensor_dict(s) for s in self.sensors]}
+
+
+def _sensor_dict(sensor: Sensor) -> dict:
+    """A channel's fields; the delay and the noise spectrum only when set (older records stay as they were)."""
+    out = asdict(sensor)
+    if sensor.delay_s == 0.0:
+        del out["delay_s"]
+    if sensor.noise_spectrum is None:
+        del out["noise_spectrum"]
+    return out
 
 
 def _reaction_cell(name: str, sign: float) -> Sensor:

@@ -259,7 +259,7 @@ stiffness = "2e6 lbf/in"
 damping = "5 %"
 base_mass = "200 lb"
 [dynamics.friction]
-coulomb = "8 lbf"
+pressure_coefficient = "0.002 lbf/psi"
 """
 
 
@@ -268,7 +268,9 @@ def test_the_lab_file_sets_the_mounting_and_the_runs_and_checks_use_it(tmp_path)
     m = lab.dynamics.mounting
     assert m.platen == PlatenMode(0.1 * lab.table.mass, 150.0, 0.03)
     assert m.load_cells == LoadCells(2e6, 0.05, 200.0 / G0)  # 200 lb of mass is 200/g0 lbf*s^2/in, exact
-    assert lab.dynamics.others == {"friction": {"coulomb": "8 lbf"}}  # passed through, for its own parser
+    # the table's own sub-table is passed through here and parsed into the table (plant.table_dynamics)
+    assert lab.dynamics.others == {"friction": {"pressure_coefficient": "0.002 lbf/psi"}}
+    assert lab.table.dynamics.pressure_friction == pytest.approx(0.002)
     assert lab.to_dict()["dynamics"]["load_cells"]["stiffness"] == 2e6
     test = tracking_test(Choices(lab=str(lab.path), duration=1.0))
     assert isinstance(test.specimen.specimen, MountedSpecimen) and "load cells" in test.specimen.label
