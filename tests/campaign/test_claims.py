@@ -160,7 +160,10 @@ def test_basemat_mass_thresholds_of_lr2_and_fp2_use_their_own_report_value():
     assert verdict("sec9-basemat-mass-lr2", [lr2]).verdict == AGREE
     # The SD2 claim finds no SD2 row in the same study.
     assert verdict("sec9-basemat-mass", [lr2]).verdict == NOT_RUN
-    assert verdict("sec9-basemat-mass-fp2", [table("basemat-mass", rows("FP2", {0.9, 0.8, 0.7, 0.6}))]).verdict == AGREE
+    assert (
+        verdict("sec9-basemat-mass-fp2", [table("basemat-mass", rows("FP2", {0.9, 0.8, 0.7, 0.6}))]).verdict
+        == AGREE
+    )
     # FP2 unstable only from 0.7: 0.2 below the report's 0.9.
     late = verdict("sec9-basemat-mass-fp2", [table("basemat-mass", rows("FP2", {0.7, 0.6}))])
     assert late.verdict == DISAGREE and "unstable at m_vs/m_st = 0.6, 0.7" in late.measured

@@ -688,6 +688,53 @@ def _cases():
         files |= {"d.json": DESIGN} if argv[0] == "export" else {}
         yield case, argv, files, (name,)
     yield from _lab_cases()
+    yield from _calibration_cases()
+
+
+#: A calibration protocol (issue 17) on a lab file with the report's table.
+PROTOCOL_TOML = """
+[calibration]
+claim = "sec8-fc-instability"
+lab = "lab.toml"
+[parameter]
+name = "delay"
+keys = ["sensors.x.delay"]
+unit = "ms"
+min = "0 ms"
+max = "2 ms"
+resolution = "0.1 ms"
+source = "a datasheet"
+[observation]
+kind = "tracking"
+set = { water_depth = "42 in" }
+vary = "f_c"
+stable = "100 Hz"
+unstable = "150 Hz"
+"""
+
+#: Bad protocols: (the line replaced, its replacement, the key the error must name).
+BAD_PROTOCOLS = {
+    "unknown claim": ('claim = "sec8-fc-instability"', 'claim = "bogus"', "calibration.claim"),
+    "missing lab": ('lab = "lab.toml"', 'lab = "nolab.toml"', "calibration.lab"),
+    "range in lbf": ('min = "0 ms"', 'min = "0 lbf"', "parameter.min"),
+    "empty range": ('max = "2 ms"', 'max = "0 ms"', "parameter.max"),
+    "unknown kind": ('kind = "tracking"', 'kind = "bogus"', "observation.kind"),
+    "unknown setting": ('set = { water_depth = "42 in" }', "set = { bogus = 1 }", "bogus"),
+    "stable in inches": ('stable = "100 Hz"', 'stable = "100 in"', "observation.stable"),
+}
+
+
+def _calibration_cases():
+    argv = ("campaign", "calibrate", "p.toml", "-o", "out")
+    lab = {"t.toml": TABLE_TOML, "lab.toml": LAB_TOML}
+    yield "campaign calibrate missing protocol", argv, {}, ("p.toml",)
+    for family, (old, new, key) in BAD_PROTOCOLS.items():
+        yield (
+            f"protocol {family} / campaign calibrate",
+            argv,
+            {**lab, "p.toml": PROTOCOL_TOML.replace(old, new)},
+            (key,),
+        )
 
 
 #: A lab file (issue 12) on the report's table, with a +-150 mm stroke.

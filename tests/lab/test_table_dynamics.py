@@ -277,7 +277,7 @@ def test_lab_file_dynamics_with_units_reach_the_virtual_table(tmp_path):
     doc = lab.to_dict()
     assert doc["dynamics"]["spool_rate_limit"] == pytest.approx(2500.0)
     assert lab.sources["dynamics.valve"] == "file"
-    assert load_lab("report").to_dict()["dynamics"] is None
+    assert load_lab("report").to_dict()["dynamics"] == {"platen": None, "load_cells": None}  # all off
 
 
 @pytest.mark.parametrize(
