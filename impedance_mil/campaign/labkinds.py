@@ -29,7 +29,7 @@ from typing import Any
 from ..design import ControllerDesign, virtual_model
 from ..design.constraints import DesignCriteria
 from ..design.optimized.indices import passivity_index
-from ..lab.choices import lab_choice, report_lab
+from ..lab.choices import lab_choice, mounted_choice, report_lab
 from ..lab.descriptions import (
     FRF_BANDS_HZ,
     ControllerChoice,
@@ -191,10 +191,13 @@ MIL_DEFAULTS: dict[str, Any] = {
 
 
 def _specimen(config: dict[str, Any]) -> SpecimenChoice:
+    """The run's article, on the lab file's mounting (``[dynamics.platen]``, ``[dynamics.load_cells]``) if any."""
     spec = config["specimen"]
     if spec["kind"] != "vessel":
-        return SpecimenChoice.bare()
-    return SpecimenChoice.vessel(float(spec["water_depth"]))
+        article = SpecimenChoice.bare()
+    else:
+        article = SpecimenChoice.vessel(float(spec["water_depth"]))
+    return mounted_choice(article, _lab_setup(config))
 
 
 def _lab_setup(config: dict[str, Any]) -> LabSetup | None:

@@ -15,7 +15,10 @@ or, for a calibrated channel as in report Table 7.1, ``scale`` [unit/V] and
 interface force w with its mounting sign (four cells of a table: ``0.25``
 each).  ``preset = "table-7.1"`` stands for the report's channels (the
 accelerometer, string potentiometer, dP cell and four reaction load cells of
-Table 7.1, exactly as :func:`impedance_mil.lab.setup.default_sensors`).
+Table 7.1, exactly as :func:`impedance_mil.lab.setup.default_sensors`); a
+preset channel's own ``[sensors.NAME]`` may add its dynamics, which the report
+does not give (``bandwidth``, ``filter_order``, ``delay``, ``delay_loops``,
+``noise_spectrum``), never change its calibration.
 
 Without a ``[sensors]`` section, :func:`generic_sensors` sizes one channel
 per quantity from the table (documented in ``docs/your-lab.md``): the
@@ -161,9 +164,7 @@ def sensor_setup(
     if preset is not None:
         if preset not in PRESETS:
             raise ConfigError(f"{where}sensors.preset", " or ".join(PRESETS), preset)
-        if channels:
-            raise ConfigError(f"{where}sensors.{next(iter(channels))}", "no channels beside a preset")
-        return SensorSetup(default_sensors(), clipping, "file")
+        return SensorSetup(_amended_preset(channels, table.loop_time, base, where), clipping, "file")
     if not channels:
         raise ConfigError(f"{where}sensors", "a preset or at least one [sensors.NAME] channel")
     sensors = []
@@ -174,6 +175,41 @@ def sensor_setup(
         sensor = _with_filter(sensor, entry, table.loop_time, f"{where}sensors.{name}.")
         sensors.append(_with_dynamics(sensor, entry, table.loop_time, base, f"{where}sensors.{name}."))
     return SensorSetup(SensorSuite(tuple(sensors)), clipping, "file")
+
+
+#: Keys a preset's channel may take in its own ``[sensors.NAME]`` table: its dynamics, not its calibration.
+PRESET_AMENDMENT_KEYS = ("bandwidth", "filter_order", "delay", "delay_loops", "noise_spectrum")
+
+
+def _amended_preset(
+    channels: Mapping[str, Any], loop_time: float, base: Path | None, where: str
+) -> SensorSuite:
+    """The preset's channels, each named ``[sensors.NAME]`` with its filter, delay or noise spectrum added.
+
+    A preset keeps its calibration (Table 7.1); a lab may add what the report does
+    not give: ``[sensors.LC-03] delay = "0.5 ms"`` (:data:`PRESET_AMENDMENT_KEYS`).
+    """
+    suite = default_sensors()
+    sensors = []
+    for sensor in suite.sensors:
+        entry = channels.get(sensor.name)
+        if entry is None:
+            sensors.append(sensor)
+            continue
+        key = f"{where}sensors.{sensor.name}."
+        if not isinstance(entry, Mapping):
+            raise ConfigError(key.rstrip("."), "a table with " + ", ".join(PRESET_AMENDMENT_KEYS), entry)
+        if unknown := sorted(set(entry) - set(PRESET_AMENDMENT_KEYS)):
+            raise ConfigError(
+                f"{key}{unknown[0]}", "beside a preset, only " + ", ".join(PRESET_AMENDMENT_KEYS)
+            )
+        sensor = _with_filter(sensor, entry, loop_time, key)
+        sensors.append(_with_dynamics(sensor, entry, loop_time, base, key))
+    if unknown_names := sorted(set(channels) - set(suite.names)):
+        raise ConfigError(
+            f"{where}sensors.{unknown_names[0]}", "a channel of the preset: " + ", ".join(suite.names)
+        )
+    return SensorSuite(tuple(sensors))
 
 
 def _channel(name: str, entry: Mapping[str, Any], adc: Converter, key: str) -> Sensor:
