@@ -18,8 +18,9 @@ of the interval between them: every value inside reproduces the observation,
 the midpoint commits to none of its ends.  Instability is assumed to grow
 with the parameter (a delay, a compliance): the protocol says so, and each
 bisection checks its ends.  When no value in the source range reproduces the
-observation, the calibration says so and keeps the range's end nearest to it;
-it never widens the range.
+observation, the calibration says so and keeps the range's end nearest to it
+by the claims' own measure (where the unstable setting's high-frequency ratio is
+largest); it never widens the range.
 
 The result is a calibrated lab file (the base lab, the parameter set, and a
 ``[calibration]`` record naming the claim, so the reproduction page marks it
@@ -152,13 +153,22 @@ class CalibrationResult:
     evaluations: tuple[Evaluation, ...] = field(default=())
     note: str = ""
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self, relative_to: Path | None = None) -> dict[str, Any]:
+        """JSON-safe record; file paths relative to ``relative_to`` when given (the output folder)."""
         p = self.protocol
+
+        def where(path: Path) -> str:
+            return (
+                str(path)
+                if relative_to is None
+                else Path(os.path.relpath(path, relative_to.resolve())).as_posix()
+            )
+
         return json_safe(
             {
-                "protocol": str(p.path),
+                "protocol": where(p.path),
                 "claim": p.claim,
-                "base_lab": str(p.base_lab),
+                "base_lab": where(p.base_lab),
                 "why": p.why,
                 "parameter": {**asdict(p.parameter), "keys": list(p.parameter.keys)},
                 "observation": {
@@ -269,19 +279,24 @@ def _observation(section: Mapping[str, Any], where: str) -> Observation:
 def lab_with(base: Mapping[str, Any], keys: tuple[str, ...], text: str) -> dict[str, Any]:
     """A copy of the lab data ``base`` with every dotted key of ``keys`` set to ``text``.
 
+    The key's section must exist in ``base`` (``sensors`` for ``sensors.LC-03.delay``);
+    tables below it are created (a preset's channel gets its own ``[sensors.LC-03]``).
+
     Raises
     ------
     ConfigError
-        A key's parent is not a table of the lab (the protocol names a channel the lab lacks).
+        The key's section is not a table of the base lab, or a value stands where a table is needed.
     """
     data = copy.deepcopy(dict(base))
     for key in keys:
-        *parents, last = key.split(".")
-        node: Any = data
-        for i, part in enumerate(parents):
-            node = node.setdefault(part, {}) if i == 0 else node.get(part)
+        section, *parents, last = key.split(".")
+        node: Any = data.get(section)
+        if not isinstance(node, dict) or not last:
+            raise ConfigError(f"parameter.keys: {key}", "a key under an existing section of the base lab")
+        for part in parents:
+            node = node.setdefault(part, {})
             if not isinstance(node, dict):
-                raise ConfigError(f"parameter.keys: {key}", "a key under an existing table of the base lab")
+                raise ConfigError(f"parameter.keys: {key}", f"{part} to be a table of the base lab")
         node[last] = text
     return data
 
@@ -386,11 +401,15 @@ def calibrate(
         run = _Runner(protocol, Path(tmp), on_run)
         onset_u = _onset(run, obs.unstable, par.low, par.high, par.resolution)
         if onset_u is None:
-            value, onset_s = par.high, None
+            # Not reproduced: keep the end of the range closest to the observation by the claims'
+            # own measure, the unstable setting's high-frequency ratio (largest = nearest to unstable).
+            ends = {end: run(end, obs.unstable).hf_ratio or 0.0 for end in (par.low, par.high)}
+            value, onset_s = max(ends, key=lambda end: ends[end]), None
             note = (
-                f"no value of the {par.name} up to {run.value_text(par.high)} (the sources' range) makes "
-                f"{obs.vary} = {obs.unstable:g} unstable: the observation is not reproduced; the range's end "
-                "nearest to it is kept"
+                f"no value of the {par.name} in {run.value_text(par.low)} to {run.value_text(par.high)} "
+                f"(the sources' range) makes {obs.vary} = {obs.unstable:g} unstable: the observation is not "
+                f"reproduced; kept {run.value_text(value)}, the end where its high-frequency ratio is largest "
+                f"({ends[value]:.3g}, against {ends[par.high if value == par.low else par.low]:.3g})"
             )
         else:
             onset_s = _onset(run, obs.stable, onset_u, par.high, par.resolution)
@@ -423,13 +442,13 @@ def calibrate(
                 **_relative_files(lab_with(run.base, par.keys, run.value_text(value)), Path(out_dir)),
                 "calibration": record,
             },
-            f"Calibrated by `imil lab calibrate {protocol.path.name}` (issue 17, item 2).\n"
+            f"Calibrated by `imil campaign calibrate {protocol.path.name}` (issue 17, item 2).\n"
             f"Claim calibrated on: {protocol.claim}. {note}.\n"
             "Every other value is the base lab's, from its cited sources.",
         )
         with atomic_directory(out_dir) as folder:
             (folder / "calibrated-lab.toml").write_text(lab_text, encoding="utf-8")
             (folder / "calibration.json").write_text(
-                json.dumps(result.to_dict(), indent=2) + "\n", encoding="utf-8"
+                json.dumps(result.to_dict(relative_to=Path(out_dir)), indent=2) + "\n", encoding="utf-8"
             )
     return result

@@ -66,7 +66,8 @@ def fake_run(config, out_path):
     lab = read_toml(config["lab"])
     value_ms = quantity("lc", lab["sensors"]["lc"]["bits"], "ms")
     unstable = value_ms >= ONSET_MS[config["controller"]["fc_hz"]]
-    return {"hf_ratio": 2.0 if unstable else 0.1, "aborted": False}
+    # below the onset the oscillation grows with the value, as it does towards an instability
+    return {"hf_ratio": 2.0 if unstable else 0.1 + 0.1 * value_ms, "aborted": False}
 
 
 @pytest.fixture
@@ -96,8 +97,9 @@ def test_bisection_finds_both_onsets_and_takes_their_midpoint(protocol, tmp_path
 def test_a_range_that_cannot_reproduce_the_observation_says_so_and_keeps_its_end(protocol, tmp_path):
     protocol.write_text(PROTOCOL.format(max="0.5 ms"))
     result = calibration.calibrate(calibration.load_protocol(protocol), tmp_path / "out")
+    # the high end is the nearer to the observation: its hf_ratio (0.15) exceeds the low end's (0.1)
     assert not result.reproduced and result.value == pytest.approx(0.5) and result.onset_unstable is None
-    assert "not reproduced" in result.note
+    assert "not reproduced" in result.note and "0.15" in result.note
 
 
 def test_the_calibration_record_is_read_with_the_lab(tmp_path):
@@ -130,3 +132,14 @@ def test_a_bad_protocol_is_refused_naming_the_key(protocol, old, new, key):
     protocol.write_text(PROTOCOL.replace(old, new).format(max="2 ms"))
     with pytest.raises(ConfigError, match=key.replace(".", r"\.")):
         calibration.load_protocol(protocol)
+
+
+def test_lab_with_creates_tables_below_an_existing_section_only():
+    base = {"sensors": {"preset": "table-7.1"}}
+    out = calibration.lab_with(base, ("sensors.LC-03.delay", "sensors.LC-06.delay"), "0.3 ms")
+    assert out["sensors"]["LC-03"] == {"delay": "0.3 ms"} and out["sensors"]["LC-06"] == {"delay": "0.3 ms"}
+    assert base == {"sensors": {"preset": "table-7.1"}}  # a copy
+    with pytest.raises(ConfigError, match="dynamics.valve.x"):
+        calibration.lab_with(base, ("dynamics.valve.x",), "1")
+    with pytest.raises(ConfigError, match="preset"):
+        calibration.lab_with(base, ("sensors.preset.x",), "1")
