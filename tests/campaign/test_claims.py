@@ -202,3 +202,19 @@ def test_force_equilibrium_is_worse_only_with_the_heavy_article():
     alike = verdict("sec8-fe-vs-lc", [table("feedback", rows(0.11, 0.11))])
     assert alike.verdict == DISAGREE and "42 in 0.11 against 0.1" in alike.measured
     assert verdict("sec8-fe-vs-lc", [table("feedback", rows(0.2, 0.2))]).verdict == DISAGREE
+
+
+def test_an_unstable_force_equilibrium_run_tracks_worse():
+    # The what-if of docs/campaign.md: w_FE went unstable with the empty vessel (command-slew
+    # trip), so it is not "as good as w_LC" there, whatever its error before the trip.
+    rows = [
+        {"water_depth": d, "feedback": fb, "motion": "GM1", "spectral_error_0p25_15hz": 0.1}
+        for d in (0.0, 42.0)
+        for fb in ("lc", "fe")
+    ]
+    rows[1].update(status="aborted", trip_limit="command_oscillation")
+    outcome = verdict("sec8-fe-vs-lc", [table("feedback", rows)])
+    assert outcome.verdict == DISAGREE and "0 in inf against 0.1" in outcome.measured
+    rows[1].update(status="ok", trip_limit=None)
+    rows[3].update(status="aborted", trip_limit="command_oscillation")
+    assert verdict("sec8-fe-vs-lc", [table("feedback", rows)]).verdict == AGREE
