@@ -56,8 +56,14 @@ SYMBOLS: MappingProxyType[str, str] = MappingProxyType(
         "degree": "degree",
         "rad": "radian",
         "radian": "radian",
+        "dB": "decibel",
+        "decibel": "decibel",
     }
 )
+
+#: Units named here but whose values are left to pint: a logarithmic unit is no factor
+#: (pint refuses ``"3 dB"`` as ambiguous; the toolkit only prints dB).
+_NAMES_ONLY = frozenset({"decibel"})
 
 #: A unit read here: the names of :data:`SYMBOLS`' values and their whole powers, in any order.
 Units = frozenset[tuple[str, int]]
@@ -96,6 +102,7 @@ SHORT_NAMES_BY_EXPRESSION: MappingProxyType[str, str] = MappingProxyType(
         "milliampere / volt": "mA/V",
         "g0": "g0",
         "degree": "deg",
+        "decibel": "dB",
         "radian / second": "rad/s",
         "dimensionless": "",
     }
@@ -162,7 +169,7 @@ def quick_quantity(text: str, unit: str) -> float | None:
     if not rest.strip():
         return number
     given, target = parse_units(rest), parse_units(unit)
-    if given is None or target is None:
+    if given is None or target is None or any(name in _NAMES_ONLY for name, _ in given | target):
         return None
     if given == target:
         return number
