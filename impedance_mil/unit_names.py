@@ -19,7 +19,8 @@ pint as before:
   value in any other unit, with an angle, in percent, or of the wrong dimension,
   goes to pint, which converts by dimension or refuses it naming the key.
 * :func:`quick_short_name` is pint's short form (``"force_pound / inch"`` ->
-  ``"lbf/in"``) of the units of :data:`SHORT_NAMES`.
+  ``"lbf/in"``) of the units of :data:`SHORT_NAMES_BY_EXPRESSION` (``dB`` is
+  named here, but a value in dB is left to pint, which refuses it).
 
 Every symbol, scaled factor and short name is checked against pint, and the
 numbers are the same bit for bit (``tests/test_unit_names.py``), so reading a
