@@ -138,7 +138,7 @@ def save_run(
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     # The checksum is computed beside the write (hashlib releases the GIL): on a 600 s run
-    # (230 MB) SHA-256 takes 0.13-0.4 s, about what HDF5 takes to write the same bytes.
+    # (230 MB) SHA-256 takes about 0.13 s, half of what HDF5 and the fsync take (docs/lab.md).
     with (
         ThreadPoolExecutor(max_workers=1, thread_name_prefix="imil-run-digest") as digests,
         atomic_path(path) as tmp,
