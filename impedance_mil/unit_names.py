@@ -109,8 +109,10 @@ SHORT_NAMES_BY_EXPRESSION: MappingProxyType[str, str] = MappingProxyType(
     }
 )
 
-_TERM = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:(?:\*\*|\^)\s*([0-9]+))?\s*")
-_NUMBER = re.compile(r"\s*(-?)\s*((?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?)(?:\s+|$)")
+# Python's tokenizer, which pint's parser uses, splits a whole number with a leading zero
+# ("007" reads as 0 and 7, "in**02" as in**0 and 2): such texts are left to pint.
+_TERM = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:(?:\*\*|\^)\s*([1-9][0-9]*))?\s*")
+_NUMBER = re.compile(r"\s*(-?)\s*((?:(?:0|[1-9][0-9]*)(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?)(?:\s+|$)")
 #: The one dimensionless spelling read here (a unit of its own, such as percent, goes to pint).
 _DIMENSIONLESS = "dimensionless"
 

@@ -168,6 +168,10 @@ def test_every_shipped_value_in_its_own_unit_is_pints_float(text):
         ("0.1 ms", "second"),
         ("2 Hz", "hertz"),
         ("3 mA / V", "milliampere / volt"),
+        ("0 in", "inch"),
+        ("1e05 in", "inch"),  # leading zeros of an exponent are one number for pint too
+        ("1.e5 in", "inch"),
+        ("3 in ** 2", "inch**2"),
     ],
 )
 def test_numbers_read_as_pint_reads_them(text, unit):
@@ -191,6 +195,10 @@ def test_numbers_read_as_pint_reads_them(text, unit):
         ("+3 in", "inch"),
         ("0x10 in", "inch"),
         ("3 dB", "decibel"),  # logarithmic: pint refuses it, so must this
+        ("007 in", "inch"),  # pint's tokenizer reads 0 and 7 (and gives 0): left to it
+        ("3 in**02", "inch**2"),  # pint reads in**0 times 2 (a dimensionless 3): left to it
+        ("0.5 in**0", "inch"),
+        ("01.5 in", "inch"),
     ],
 )
 def test_other_values_are_left_to_pint(text, unit):
@@ -233,3 +241,32 @@ def test_every_table_key_in_its_own_unit_is_pints_float(key):
     for number in ("0.37", "42", "1.5e3"):
         text = f"{number} {unit}"
         assert same_float(quick_quantity(text, unit), pint_float(text, unit))
+
+
+NUMBERS = ("0", "-0", "3", "-2.5", ".5", "5.", "1e-3", "2.5E+4", "123456789012", "0.1", "007", "1_0")
+
+
+def spelled_values() -> list[tuple[str, str]]:
+    """A number and each symbol, alone and in products and quotients, with the target spelled otherwise."""
+    full = {symbol: name for symbol, name in SYMBOLS.items() if name != "decibel"}
+    cases = []
+    for number in NUMBERS:
+        for symbol, name in full.items():
+            cases.append((f"{number} {symbol}", name))
+        for (s1, n1), (s2, n2) in itertools.combinations(list(full.items())[::3], 2):
+            if n1 != n2:
+                cases.append((f"{number} {s1}*{s2}**2", f"{n2}**2 * {n1}"))
+                cases.append((f"{number} {s1} / {s2}", f"{n1} / {n2}"))
+    return cases
+
+
+def test_every_value_read_here_is_pints_float():
+    # Wherever the fast path gives a number, pint gives the same float (and no error).
+    read = 0
+    for text, unit in spelled_values():
+        quick = quick_quantity(text, unit)
+        if quick is None:
+            continue
+        read += 1
+        assert same_float(quick, pint_float(text, unit)), (text, unit)
+    assert read > 500  # not blind: most of these are read here
