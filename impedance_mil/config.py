@@ -40,23 +40,35 @@ import re
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
-from typing import Any
-
-import pint
+from typing import TYPE_CHECKING, Any
 
 from .errors import ConfigError, DataFileError
 from .fileio import MAX_NUMBER_DIGITS, read_text
+from .lazy import LazyModule
+from .unit_names import quick_quantity
 from .units import PINT_DEFINITIONS
 
-_UREG = pint.UnitRegistry()
-for _definition in PINT_DEFINITIONS:
-    _UREG.define(_definition)
+if TYPE_CHECKING:
+    import pint
+else:
+    # Imported, and its registry built, on the first value that needs it (about 0.5 s):
+    # the units of the shipped files are read by unit_names without it (issue 16, goal 1).
+    pint = LazyModule("pint")
 
 
+@cache
 def unit_registry() -> pint.UnitRegistry:
-    """The package's pint registry (with ``g0``): the one that reads and shows units."""
-    return _UREG
+    """The package's pint registry (with ``g0``): the one that reads and shows units.
+
+    Built on the first call (pint's import and registry take about 0.5 s); the same
+    registry afterwards.
+    """
+    registry: pint.UnitRegistry = pint.UnitRegistry()
+    for definition in PINT_DEFINITIONS:
+        registry.define(definition)
+    return registry
 
 
 #: Allowed checks for a field value.
@@ -188,23 +200,27 @@ def _parse_text(key: str, value: str, unit: str) -> float:
         raise ConfigError(key, f"a value of at most {MAX_QUANTITY_CHARS} characters", _shown(value))
     if _LONG_DIGITS_RE.search(text):
         raise ConfigError(key, f"a number of at most {MAX_NUMBER_DIGITS} digits", _shown(value))
+    quick = quick_quantity(text, unit)
+    if quick is not None:  # a bare number, or a value in the key's own unit: pint's float, without pint
+        return quick
+    ureg = unit_registry()
     try:
-        parsed = _UREG.Quantity(text)
+        parsed = ureg.Quantity(text)
     except Exception:  # pint raises many types for bad strings
         raise ConfigError(key, f"a number or a quantity in {unit}", value) from None
-    if not isinstance(parsed, _UREG.Quantity):  # pint may hand back a plain number
+    if not isinstance(parsed, ureg.Quantity):  # pint may hand back a plain number
         return _as_float(key, parsed)
     if not dict(parsed.unit_items()):
         # A number written as a string is still a bare number: the report's unit.
         return _as_float(key, parsed.magnitude)
-    target = _UREG.Quantity(1.0, unit)
+    target = ureg.Quantity(1.0, unit)
     extra_angle = _angle_power(parsed) - _angle_power(target)
     try:
         if extra_angle == 0:
             return _as_float(key, parsed.to(unit).magnitude)
-        if extra_angle == 1 and target.dimensionality == _UREG.get_dimensionality("1 / second"):
+        if extra_angle == 1 and target.dimensionality == ureg.get_dimensionality("1 / second"):
             # An angular frequency for a key in Hz: cycles per second, one cycle = 2 pi rad.
-            return _as_float(key, (parsed / _UREG.turn).to(unit).magnitude)
+            return _as_float(key, (parsed / ureg.turn).to(unit).magnitude)
     except pint.DimensionalityError:
         pass
     raise ConfigError(key, f"a quantity with the dimension of {unit}", value)

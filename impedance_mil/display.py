@@ -34,6 +34,7 @@ from typing import Any
 
 from .config import unit_registry
 from .errors import ConfigError
+from .unit_names import quick_short_name
 
 
 class UnitSystem(StrEnum):
@@ -95,7 +96,14 @@ def unit_system(text: str | UnitSystem | None, key: str = "--units") -> UnitSyst
 
 
 def short_name(unit: str) -> str:
-    """The short form of a pint unit expression: ``"force_pound / inch"`` -> ``"lbf/in"``."""
+    """The short form of a pint unit expression: ``"force_pound / inch"`` -> ``"lbf/in"``.
+
+    The units of :data:`impedance_mil.unit_names.SHORT_NAMES_BY_EXPRESSION` (those the
+    toolkit shows) are named without pint, the same as pint names them; others by pint.
+    """
+    quick = quick_short_name(unit)
+    if quick is not None:
+        return _SHORT_NAME.get(quick, quick)
     parsed = unit_registry().parse_units(unit.replace("^", "**"))
     if parsed == unit_registry().parse_units("dimensionless"):
         return ""
@@ -109,14 +117,13 @@ def display_unit(unit: str, system: UnitSystem) -> DisplayUnit:
     ``"g0"`` (accelerations in g), ``"s"``, ``"Hz"``, ``"deg"`` and every unit
     without in, lbf or psi read the same in both systems.
     """
-    ureg = unit_registry()
     name = short_name(unit)
     if system is UnitSystem.US or name == "":
         return DisplayUnit(name, 1.0)
     target = _SI_WHOLE.get(name) or _factor_by_factor(unit)
     if target == name:  # no in, lbf or psi in it (and logarithmic units such as dB convert no further)
         return DisplayUnit(name, 1.0)
-    factor = ureg.Quantity(1.0, unit.replace("^", "**")).to(target.replace("L", "liter")).magnitude
+    factor = unit_registry().Quantity(1.0, unit.replace("^", "**")).to(target.replace("L", "liter")).magnitude
     return DisplayUnit(target, float(factor))
 
 

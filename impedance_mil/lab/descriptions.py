@@ -335,7 +335,7 @@ class TrackingTest:
 
     def arrays(self, result: ControlledRun) -> dict[str, dict[str, np.ndarray]]:
         """Arrays stored with the run: the VS model's own isolator loop of a MIL run (none for tracking)."""
-        return {} if self.vs is None else {MODEL_LOOP: model_loop(result.run, self.vs)}
+        return {} if self.vs is None else {MODEL_LOOP: model_loop(result.run, self.vs, result.vs_force)}
 
     def summary(
         self, result: ControlledRun, pre: Pretest | None = None, warnings: tuple[str, ...] = ()

@@ -46,7 +46,7 @@ from .feedback import Feedback
 from .identification import TableIdentification, identify_table, model_response
 from .loop import simulate
 from .lti_plant import LTIVirtualTable, virtual_table_for
-from .metrics import RunMetrics, evaluate_run
+from .metrics import RunMetrics, evaluate_run, vs_force_history
 from .results import RunResult
 from .setup import SafetyLimits
 
@@ -135,6 +135,9 @@ class ControlledRun:
         The controller designed for the run.
     motion : GroundMotion
         The input motion at the loop rate.
+    vs_force : ndarray or None
+        The VS model's isolator force [lbf] along the run's VS states (a MIL run; None for
+        tracking): computed once for the energy error and the model loop of the run file.
     """
 
     run: RunResult
@@ -142,6 +145,7 @@ class ControlledRun:
     design: ControllerDesign
     motion: GroundMotion
     extra: dict = field(default_factory=dict)
+    vs_force: np.ndarray | None = None
 
 
 def _table(params, table, kp):
@@ -388,10 +392,11 @@ def _controlled(
             "design": {"form": design.form, "fc_hz": design.fc_hz},
         },
     )
+    vs_force = vs_force_history(vs, run.vs_states) if vs is not None and run.vs_states.size else None
     metrics = None
     if run.n_samples * params.loop_time >= 1.0:
-        metrics = evaluate_run(run, vs=vs, ground_displacement=gm.displacement())
-    return ControlledRun(run, metrics, design, gm)
+        metrics = evaluate_run(run, vs=vs, ground_displacement=gm.displacement(), vs_force=vs_force)
+    return ControlledRun(run, metrics, design, gm, vs_force=vs_force)
 
 
 def run_tracking(

@@ -158,7 +158,7 @@ def vs_force_history(vs, states) -> np.ndarray:
     return vs.force_along(np.asarray(states, dtype=float))
 
 
-def energy_error(result, vs, ground_displacement) -> float:
+def energy_error(result, vs, ground_displacement, vs_force=None) -> float:
     """Relative error of the isolator's dissipated energy, table loop vs VS loop.
 
     Parameters
@@ -169,10 +169,13 @@ def energy_error(result, vs, ground_displacement) -> float:
         The built-in VS of the run.
     ground_displacement : array_like
         Ground displacement x_g [in] at the loop samples.
+    vs_force : array_like, optional
+        ``vs_force_history(vs, result.vs_states)`` [lbf] when the caller has it already
+        (a MIL run stores it with the run file); computed otherwise.
     """
     n = result.n_samples
     xg = np.asarray(ground_displacement, dtype=float)[:n]
-    f_vs = vs_force_history(vs, result.vs_states)
+    f_vs = vs_force_history(vs, result.vs_states) if vs_force is None else np.asarray(vs_force, dtype=float)
     e_vs = dissipated_energy(f_vs, result.vs_states[:, 0])
     f_table = result.w_used - vs.m_vs * result.z_meas
     e_table = dissipated_energy(f_table, result.x_meas - xg)
@@ -181,11 +184,12 @@ def energy_error(result, vs, ground_displacement) -> float:
     return (e_table - e_vs) / e_vs
 
 
-def evaluate_run(result, *, vs=None, ground_displacement=None) -> RunMetrics:
+def evaluate_run(result, *, vs=None, ground_displacement=None, vs_force=None) -> RunMetrics:
     """Metrics of a tracking run (target ``a_g``) or a MIL run (target ``z_vs``).
 
     The measured table acceleration (accelerometer) is compared with the
-    target, as in the report's figures.
+    target, as in the report's figures.  ``vs_force`` [lbf]: the VS model's
+    isolator force along the run, when the caller has it (see :func:`energy_error`).
     """
     if result.n_samples < 4:
         raise ConfigError("result", "a run with recorded samples", result.n_samples)
@@ -196,5 +200,5 @@ def evaluate_run(result, *, vs=None, ground_displacement=None) -> RunMetrics:
     nrms, peak = history_errors(z, target)
     energy = None
     if vs is not None and ground_displacement is not None and result.vs_states.size:
-        energy = energy_error(result, vs, ground_displacement)
+        energy = energy_error(result, vs, ground_displacement, vs_force)
     return RunMetrics(low, high, nrms, peak, energy)

@@ -16,6 +16,7 @@ import hashlib
 import json
 import math
 from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
@@ -136,7 +137,14 @@ def save_run(
         raise ConfigError(f"extra entry {clash[0]!r}", "a name other than the run file's own entries")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+    # The checksum is computed beside the write (hashlib releases the GIL): on a 600 s run
+    # (230 MB) SHA-256 takes about 0.13 s, half of what HDF5 and the fsync take (docs/lab.md).
+    with (
+        ThreadPoolExecutor(max_workers=1, thread_name_prefix="imil-run-digest") as digests,
+        atomic_path(path) as tmp,
+        h5py.File(tmp, "w") as f,
+    ):
+        digest = digests.submit(data_digest, result.channels, result.vs_states)
         f.attrs["format"] = FILE_FORMAT
         f.attrs["software_version"] = result.software_version
         f.attrs["mode"] = result.mode
@@ -148,7 +156,7 @@ def save_run(
             grp.create_dataset(name, data=arr, **CHANNEL_STORAGE)
         ds = f.create_dataset("vs_states", data=result.vs_states)
         ds.attrs["names"] = json.dumps(list(result.vs_state_names))
-        f.attrs["data_sha256"] = data_digest(result.channels, result.vs_states)
+        f.attrs["data_sha256"] = digest.result()
         f.attrs.update(extra_attrs)
         _write_groups(f, extra_groups)
     return path

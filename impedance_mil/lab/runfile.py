@@ -138,9 +138,15 @@ def recomputed_summary(run: RunResult) -> dict[str, Any]:
     return run_summary(run, metrics)
 
 
-def model_loop(run: RunResult, vs) -> dict[str, np.ndarray]:
-    """The VS model's own isolator loop along a MIL run: displacement [in] and force [lbf]."""
-    return {MODEL_LOOP_KEYS[0]: run.vs_states[:, 0], MODEL_LOOP_KEYS[1]: vs_force_history(vs, run.vs_states)}
+def model_loop(run: RunResult, vs, force=None) -> dict[str, np.ndarray]:
+    """The VS model's own isolator loop along a MIL run: displacement [in] and force [lbf].
+
+    ``force``: ``vs_force_history(vs, run.vs_states)`` [lbf] when the caller has it already
+    (``lab.experiments.ControlledRun.vs_force``); computed otherwise.
+    """
+    if force is None:
+        force = vs_force_history(vs, run.vs_states)
+    return {MODEL_LOOP_KEYS[0]: run.vs_states[:, 0], MODEL_LOOP_KEYS[1]: force}
 
 
 def basemat_mass(run: RunResult) -> float | None:

@@ -16,6 +16,8 @@ from impedance_mil.errors import LimitTripped
 from impedance_mil.lab.experiments import kp_study, run_frf, run_mil, run_tracking
 from impedance_mil.lab.identification import identify_table
 from impedance_mil.lab.loop import simulate
+from impedance_mil.lab.metrics import evaluate_run, vs_force_history
+from impedance_mil.lab.runfile import MODEL_LOOP_KEYS, model_loop
 from impedance_mil.lab.setup import ideal_sensors
 from impedance_mil.plant import LinearTable
 from impedance_mil.plant.nonlinear import Friction, NonlinearTable
@@ -192,3 +194,17 @@ def test_identification_of_valve_poles(p):
     )
     assert ident.parameters.valve_poles_hz == pytest.approx((70.0, 110.0), rel=1e-3)
     assert ident.parameters.f_oil_hz == pytest.approx(27.0, rel=1e-3)
+
+
+def test_a_mil_run_keeps_the_vs_force_its_energy_error_used(p, motion):
+    # Issue 16: the VS model's force along the run is computed once, for the energy error and
+    # for the model loop of the run file; both are what they were when each computed it.
+    vs = presets.get("SD2")
+    r = run_mil(p, vs, motion, specimen=FluidVessel.report_default())
+    recomputed = vs_force_history(vs, r.run.vs_states)
+    np.testing.assert_array_equal(r.vs_force, recomputed)
+    again = evaluate_run(r.run, vs=vs, ground_displacement=r.motion.displacement())
+    assert again.energy_error == r.metrics.energy_error
+    loop = model_loop(r.run, vs, r.vs_force)
+    np.testing.assert_array_equal(loop[MODEL_LOOP_KEYS[1]], model_loop(r.run, vs)[MODEL_LOOP_KEYS[1]])
+    assert run_tracking(p, motion).vs_force is None
