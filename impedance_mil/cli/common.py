@@ -7,7 +7,7 @@ import math
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import typer
 from rich.console import Console
@@ -16,10 +16,16 @@ from ..config import parse_overrides
 from ..display import UnitSystem, human_name, unit_system
 from ..errors import ConfigError
 from ..fileio import json_safe
-from ..lab.labfile import LabSetup, article_weight, load_lab
+from ..lazy import LazyModule
 from ..plant import TableParameters, default_table_path
 from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
 from ..report.documents import TF_COEFFICIENTS, express
+
+if TYPE_CHECKING:  # the lab-file reader is imported on first use (below): `imil table info` needs none
+    from ..lab.labfile import LabSetup
+
+#: The lab-file reader, imported when a command first reads a lab (issue 16, start-up).
+labfile = LazyModule("impedance_mil.lab.labfile")
 
 #: Console for human-readable output (stdout).
 console = Console(highlight=False, soft_wrap=True)
@@ -64,7 +70,7 @@ def output_units(units: str | None, lab: str | None = None, table: Path | None =
     if lab is None and table is not None and is_lti_table_file(table):
         return UnitSystem.US  # an LTI table file has no lab keys
     if lab is not None or table is not None:
-        return load_lab(lab, table=table, accept_lti=True).units  # the units only: any table will do
+        return labfile.load_lab(lab, table=table, accept_lti=True).units  # the units only: any table will do
     return UnitSystem.US
 
 
@@ -109,20 +115,20 @@ def table_parameters(
     the physical parameters; :func:`table_definition` takes either).
     """
     if lab is not None or table is not None:
-        return load_lab(lab, table=table, overrides=parse_overrides(sets)).physical_table()
+        return labfile.load_lab(lab, table=table, overrides=parse_overrides(sets)).physical_table()
     return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
 
 
 def lab_setup(table: Path | None, sets: list[str] | None = None, lab: str | None = None) -> LabSetup:
     """The lab of ``--lab`` or ``--table`` (default the report's lab) with ``--set`` table overrides."""
-    return load_lab(lab, table=table, overrides=parse_overrides(sets))
+    return labfile.load_lab(lab, table=table, overrides=parse_overrides(sets))
 
 
 def weight_option(option: str, text: str | None, setup: LabSetup | None) -> float:
     """``--specimen-weight``: a weight [lbf] (a force, a mass, ``0``; a bare number is lbf);
     not given: the article of the lab's ``[specimen]``, or none."""
     if text is not None:
-        return 0.0 if text.strip() == "0" else article_weight(text, option)
+        return 0.0 if text.strip() == "0" else labfile.article_weight(text, option)
     if setup is not None and setup.specimen.article_weight is not None:
         return float(setup.specimen.article_weight)
     return 0.0

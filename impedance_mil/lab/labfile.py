@@ -44,12 +44,13 @@ from ..plant import TableParameters
 from ..plant.lti_table import LTITable
 from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
-from ..plant.table_dynamics import DYNAMICS_UNITS, TABLE_DYNAMICS_SECTIONS, parse_table_dynamics
+from ..plant.table_dynamics import TABLE_DYNAMICS_SECTIONS, parse_table_dynamics
 from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
 from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .calibration_record import CalibrationRecord, parse_calibration
 from .dynamics_file import DYNAMICS_PARSERS, DynamicsSetup, parse_dynamics
+from .lab_units import LAB_UNITS as LAB_UNITS  # re-exported: the units of to_dict()
 from .labsensors import Converter, SensorSetup, channel_dynamics, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
 from .lti_plant import lti_limits, virtual_table_for
@@ -316,45 +317,6 @@ def _dynamics_dict(table: TableDefinition, setup: DynamicsSetup) -> dict[str, An
     mounting = {k: v for k, v in setup.to_dict().items() if k in DYNAMICS_PARSERS}
     table_dynamics = getattr(table, "dynamics", None)
     return mounting | ({} if table_dynamics is None else table_dynamics.to_dict())
-
-
-#: Unit of every numeric value of :meth:`LabSetup.to_dict` (internal units).
-LAB_UNITS = {
-    "limits.stroke": "in",
-    "limits.velocity": "in/s",
-    "limits.acceleration": "in/s**2",
-    "limits.actuator_force": "lbf",
-    "limits.pressure": "psi",
-    "limits.valve_command": "V",
-    "limits.valve_current": "mA",
-    "limits.valve_duty": "",
-    "limits.valve_saturation_time": "s",
-    "limits.command_slew": "V/s",
-    "limits.interlock_window": "s",
-    "limits.divergence": "in",
-    "limits.hf_cutoff": "Hz",
-    "limits.hf_window": "s",
-    "limits.hf_growth": "",
-    "limits.hf_windows": "",
-    "limits.hf_floor": "in/s**2",
-    "sensors.channels.range": "unit of the channel",
-    "sensors.channels.bandwidth": "Hz",
-    "controller.loop_time": "s",
-    "controller.output_delay": "loops",
-    "controller.adc_range": "V",
-    "controller.dac_range": "V",
-    "specimen.water_depth": "in",
-    "specimen.article_weight": "lbf",
-    "dynamics.platen.modal_mass": "lbf*s**2/in",
-    "dynamics.platen.frequency": "Hz",
-    "dynamics.platen.damping": "",
-    "dynamics.load_cells.stiffness": "lbf/in",
-    "dynamics.load_cells.damping_ratio": "",
-    "dynamics.load_cells.damping_coefficient": "lbf*s/in",
-    "dynamics.load_cells.base_mass": "lbf*s**2/in",
-    "table": "see imil table info",
-    **{f"dynamics.{k}": v for k, v in DYNAMICS_UNITS.items()},
-}
 
 
 def lab_path(name: str | Path) -> Path:

@@ -36,7 +36,7 @@ from typing import Any
 
 from ..display import UnitSystem, display_unit, key_suffix, short_name
 from ..fileio import json_safe
-from ..lab.labfile import LAB_UNITS
+from ..lab.lab_units import LAB_UNITS
 from ..plant.parameters import ALTERNATIVES, FIELDS
 from ..virtual.files import UNITS as VS_UNITS
 

@@ -215,3 +215,28 @@ def test_the_commands_moved_out_of_a_group_module_are_importable_where_they_were
         table_figures.rlocus,
         vs_figures.loops,
     )
+
+
+@pytest.mark.parametrize(
+    "args", [("table", "info"), ("table", "info", "--json"), ("vs", "list")], ids=" ".join
+)
+def test_a_command_without_a_lab_does_not_read_the_lab_file_reader(args):
+    # The lab-file reader (and through it the sensors' and I/O units' modules, ~0.15 s) loads
+    # only when a command reads a lab: the JSON units come from lab/lab_units.py.
+    reader = ("impedance_mil.lab.labfile",)
+    done = subprocess.run(
+        [sys.executable, "-c", CONFIGURATION_PROBE.format(heavy=reader), *args],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert done.stdout.splitlines()[-1].split() == []
+    with_lab = subprocess.run(
+        [sys.executable, "-c", CONFIGURATION_PROBE.format(heavy=reader), *args, "--lab", "report"]
+        if args[0] == "table"
+        else [sys.executable, "-c", CONFIGURATION_PROBE.format(heavy=reader), "lab", "show"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert with_lab.stdout.splitlines()[-1].split() == list(reader)  # the probe is not blind
