@@ -397,6 +397,11 @@ def calibrate(
         Called with each :class:`Evaluation` (progress).
     """
     par, obs = protocol.parameter, protocol.observation
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ConfigError("--out", "a folder for the calibrated lab (this is a file)", str(out))
+    if not out.absolute().parent.is_dir():
+        raise ConfigError("--out", "a folder whose parent folder exists", str(out))
     with TemporaryDirectory(prefix="imil-calibrate-") as tmp:
         run = _Runner(protocol, Path(tmp), on_run)
         onset_u = _onset(run, obs.unstable, par.low, par.high, par.resolution)

@@ -728,6 +728,9 @@ def _calibration_cases():
     argv = ("campaign", "calibrate", "p.toml", "-o", "out")
     lab = {"t.toml": TABLE_TOML, "lab.toml": LAB_TOML}
     yield "campaign calibrate missing protocol", argv, {}, ("p.toml",)
+    good = {**lab, "p.toml": PROTOCOL_TOML}
+    yield "campaign calibrate -o a file", (*argv[:3], "-o", "t.toml"), good, ("--out",)
+    yield "campaign calibrate -o under no folder", (*argv[:3], "-o", "none/out"), good, ("--out",)
     for family, (old, new, key) in BAD_PROTOCOLS.items():
         yield (
             f"protocol {family} / campaign calibrate",
