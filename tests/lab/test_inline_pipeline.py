@@ -12,9 +12,7 @@ import re
 
 import numpy as np
 from numba import njit
-from numba.core import ir
-
-from numba.core import inline_closurecall
+from numba.core import inline_closurecall, ir
 
 from impedance_mil.lab.inline_pipeline import (
     FreshCalleeInliner,
