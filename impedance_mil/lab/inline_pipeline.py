@@ -31,20 +31,23 @@ from numba.core.compiler import CompilerBase, DefaultPassBuilder
 from numba.core.compiler_machinery import register_pass
 from numba.core.untyped_passes import InlineInlinables
 
+#: The hook ``copy.deepcopy`` looks up on a class (set on a class given as an argument).
+_DEEPCOPY = "__deepcopy__"
+
 
 @contextmanager
 def _deepcopy_returns_self(cls: type) -> Iterator[None]:
     """Within the block, ``copy.deepcopy`` of an instance of ``cls`` returns the instance itself."""
-    had_own = "__deepcopy__" in cls.__dict__
-    previous = cls.__dict__.get("__deepcopy__")
-    cls.__deepcopy__ = lambda self, memo: self
+    had_own = _DEEPCOPY in cls.__dict__
+    previous = cls.__dict__.get(_DEEPCOPY)
+    setattr(cls, _DEEPCOPY, lambda self, memo: self)
     try:
         yield
     finally:
         if had_own:
-            cls.__deepcopy__ = previous
+            setattr(cls, _DEEPCOPY, previous)
         else:
-            del cls.__deepcopy__
+            delattr(cls, _DEEPCOPY)
 
 
 def scopes_shared_by_deepcopy():
