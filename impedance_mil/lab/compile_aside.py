@@ -1,14 +1,19 @@
 """The first run compiles the spectra's kernels in a side process while it compiles the loop (issue 16, goal 4).
 
 A first ``imil simulate`` compiles the compiled loop (:data:`impedance_mil.lab.tick.run_loop`,
-most of the first run) and then, evaluating its metrics, the kernels of
-:func:`impedance_mil.signals.response_spectrum` (``_coefficients``, a 4x4 matrix exponential
-by numpy's ``eye`` and ``@``, and ``_peak_responses``: 3-4 s).  They do not depend on each
-other, so :func:`spectra_compiled_aside` starts ``python -m impedance_mil.lab.compile_aside``
-at the start of the first run: it compiles the spectra's kernels into numba's cache (the same
-``NUMBA_CACHE_DIR``, inherited) on the other core while this process compiles the loop, and
-when the loop's compile ends this process waits for it, so that its first spectrum loads the
-kernels from the cache instead of compiling them.
+most of the first run), within it the loop's compressed-row plant step (a function of its own,
+:data:`impedance_mil.lab.stepping.advance_csr_called`: about 4 s), and then, evaluating its
+metrics, the kernels of :func:`impedance_mil.signals.response_spectrum` (``_coefficients``, a
+4x4 matrix exponential by numpy's ``eye`` and ``@``, and ``_peak_responses``: 3-4 s).  Those
+two do not depend on the rest, so :func:`spectra_compiled_aside` starts ``python -m
+impedance_mil.lab.compile_aside`` at the start of the first run: it compiles them, the plant
+step first, into numba's cache (the same ``NUMBA_CACHE_DIR``, inherited) on the other core
+while this process compiles the virtual system, the table's physics and the loop.  numba looks
+in its cache before it compiles a callee, so when the plant step is cached by the time the
+loop's typing reaches it, the loop loads it (else it compiles it too, as before); when the
+loop's compile ends this process waits for the side process, so that its first spectrum loads
+the kernels from the cache instead of compiling them.  The work is moved to the other core,
+not removed: with no free core it gains nothing.
 
 The side process changes no result: it writes numba's cache of the same source, which numba
 writes atomically (a temporary file, then a rename) and which this process would have written
@@ -26,9 +31,16 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 
 import numpy as np
+from numba import typeof
 from numba.core import event
 
+from ..plant import TableParameters
+from ..plant.nonlinear import N_TABLE_STATES, NonlinearTable
 from ..signals.spectrum import response_spectrum
+from ..specimens import FluidVessel
+from .plant_interface import specimen_arrays
+from .stepping import advance_csr_called
+from .structures import FilterArrays
 
 #: The module whose compiled dispatchers are "the loop": the side process is waited for when a
 #: top-level compile of one of them ends.
@@ -49,6 +61,29 @@ def compile_spectrum_kernels() -> None:
     response_spectrum(accel, 0.01, [0.1, 1.0])
     accel.setflags(write=False)
     response_spectrum(accel, 0.01, [0.1, 1.0])
+
+
+def csr_step_signature() -> tuple:
+    """The argument types the loop passes :data:`~impedance_mil.lab.stepping.advance_csr_called`.
+
+    The loop calls it (not inlined) on its compressed-row plant path, and numba compiles it
+    while it types the loop unless the cache has it; the types are those of a
+    :class:`~impedance_mil.lab.structures.VirtualPlant`'s fields.
+    """
+    table = NonlinearTable.from_linear(TableParameters.report_default())
+    s = specimen_arrays(FluidVessel.report_default(), oscillator_bank=False)
+    n = N_TABLE_STATES + s.B.size
+    args = (
+        *(table.parameter_array(), np.zeros(n)),
+        *(s.A_val, s.A_col, s.A_ptr, s.B, s.C, s.D, s.C_lc, s.D_lc, s.lc_own),
+        *(0.0, table.loop_time, 2, np.zeros((5, n)), FilterArrays.none()),
+    )
+    return tuple(typeof(a) for a in args)
+
+
+def compile_csr_step() -> None:
+    """Compile :data:`~impedance_mil.lab.stepping.advance_csr_called` for :func:`csr_step_signature` (not run)."""
+    advance_csr_called.compile(csr_step_signature())
 
 
 def start() -> subprocess.Popen | None:
@@ -120,4 +155,5 @@ def spectra_compiled_aside(timeout_s: float = WAIT_S) -> Iterator[WaitAfterLoop]
 
 
 if __name__ == "__main__":
+    compile_csr_step()
     compile_spectrum_kernels()

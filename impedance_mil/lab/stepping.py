@@ -300,9 +300,10 @@ def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, C_lc, D_lc, lc_own, current, dt, n
     y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD] = x, v, p1, p2, s, sd
 
 
-@njit(cache=True, inline="always", error_model="numpy")
 def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, C_lc, D_lc, lc_own, current, dt, nsub, work, filters):
     """:func:`plant_advance` for a general specimen state space (``kind == SPEC_CSR``).
+
+    Compiled as :data:`advance_csr_called` (a call from the loop, not inlined).
 
     Classical RK4 on :func:`coupled_derivative`, written out with the six
     table states as scalars (:func:`~impedance_mil.plant.nonlinear.table_rates`)
@@ -387,4 +388,4 @@ def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, C_lc, D_lc, lc_own, current, dt, 
 #: default loop's speed the same (bench_lab, 1025-1029x against 1023-1063x), and the results of
 #: either path are the same bit for bit (same operations, no fast-math).  ``_nrt=False`` as the
 #: loop's (lab/tick.py): it allocates nothing, and its array views would pay reference counting.
-advance_csr_called = njit(cache=True, error_model="numpy", _nrt=False)(advance_csr.py_func)
+advance_csr_called = njit(cache=True, error_model="numpy", _nrt=False)(advance_csr)

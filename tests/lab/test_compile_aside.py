@@ -14,8 +14,12 @@ import sys
 from numba import njit
 from numba.core import event
 
-from impedance_mil.lab import compile_aside
-from impedance_mil.lab.compile_aside import WaitAfterLoop, finish, spectra_compiled_aside
+from impedance_mil.lab import compile_aside, run_mil
+from impedance_mil.lab.compile_aside import WaitAfterLoop, csr_step_signature, finish, spectra_compiled_aside
+from impedance_mil.lab.stepping import advance_csr_called
+from impedance_mil.plant import TableParameters
+from impedance_mil.signals import builtin_motion
+from impedance_mil.virtual import presets
 
 COUNT_COMPILES = """
 import json, numpy as np
@@ -78,3 +82,11 @@ def test_a_side_process_still_running_at_the_end_is_stopped(monkeypatch):
     with spectra_compiled_aside() as listener:
         assert hung.poll() is None
     assert hung.returncode is not None and listener.succeeded is None
+
+
+def test_the_side_process_compiles_the_plant_step_for_the_types_the_loop_passes():
+    # numba compiles the loop's callees while it types the loop (whatever the specimen's path):
+    # after a run, the signature the side process compiles is among those the loop asked for.
+    motion = builtin_motion("elcentro").scaled_to_pga(0.1).trimmed(0.0, 0.2)
+    run_mil(TableParameters.report_default(), presets.get("SD2"), motion)
+    assert csr_step_signature() in advance_csr_called.signatures
