@@ -86,8 +86,20 @@ def compile_csr_step() -> None:
     advance_csr_called.compile(csr_step_signature())
 
 
+def usable_cpus() -> int:
+    """CPUs this process may run on (its affinity where the platform tells it, else the machine's count)."""
+    affinity = getattr(os, "sched_getaffinity", None)
+    return len(affinity(0)) if affinity is not None else (os.cpu_count() or 1)
+
+
 def start() -> subprocess.Popen | None:
-    """Start the side process (this interpreter, this environment), or None when it cannot start."""
+    """Start the side process (this interpreter, this environment), or None when it cannot start.
+
+    None as well with a single usable CPU: the side process would only compete with this one
+    (and compile the plant step twice when it is late).
+    """
+    if usable_cpus() < 2:
+        return None
     try:
         return subprocess.Popen(
             [sys.executable, "-m", __name__],

@@ -90,3 +90,11 @@ def test_the_side_process_compiles_the_plant_step_for_the_types_the_loop_passes(
     motion = builtin_motion("elcentro").scaled_to_pga(0.1).trimmed(0.0, 0.2)
     run_mil(TableParameters.report_default(), presets.get("SD2"), motion)
     assert csr_step_signature() in advance_csr_called.signatures
+
+
+def test_no_side_process_with_a_single_usable_cpu(monkeypatch):
+    monkeypatch.setattr(compile_aside, "usable_cpus", lambda: 1)
+    assert compile_aside.start() is None
+    with spectra_compiled_aside() as listener:
+        pass
+    assert listener.succeeded is None
