@@ -1,11 +1,11 @@
-"""The first run compiles the spectra's kernels in a side process while it compiles the loop (issue 16, goal 4).
+"""The first run compiles some kernels in a side process while it compiles the loop (issue 16, goal 4).
 
 A first ``imil simulate`` compiles the compiled loop (:data:`impedance_mil.lab.tick.run_loop`,
 most of the first run), within it the loop's compressed-row plant step (a function of its own,
 :data:`impedance_mil.lab.stepping.advance_csr_called`: about 4 s), and then, evaluating its
 metrics, the kernels of :func:`impedance_mil.signals.response_spectrum` (``_coefficients``, a
 4x4 matrix exponential by numpy's ``eye`` and ``@``, and ``_peak_responses``: 3-4 s).  Those
-two do not depend on the rest, so :func:`spectra_compiled_aside` starts ``python -m
+two do not depend on the rest, so :func:`kernels_compiled_aside` starts ``python -m
 impedance_mil.lab.compile_aside`` at the start of the first run: it compiles them, the plant
 step first, into numba's cache (the same ``NUMBA_CACHE_DIR``, inherited) on the other core
 while this process compiles the virtual system, the table's physics and the loop.  numba looks
@@ -153,8 +153,8 @@ class WaitAfterLoop(event.Listener):
 
 
 @contextmanager
-def spectra_compiled_aside(timeout_s: float = WAIT_S) -> Iterator[WaitAfterLoop]:
-    """Within the block (a first run), the spectra's kernels compile in a side process (module docstring)."""
+def kernels_compiled_aside(timeout_s: float = WAIT_S) -> Iterator[WaitAfterLoop]:
+    """Within the block (a first run), the plant step and the spectra's kernels compile in a side process (module docstring)."""
     process = start()
     listener = WaitAfterLoop(process, timeout_s)
     try:

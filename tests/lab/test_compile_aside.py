@@ -15,7 +15,7 @@ from numba import njit
 from numba.core import event
 
 from impedance_mil.lab import compile_aside, run_mil
-from impedance_mil.lab.compile_aside import WaitAfterLoop, csr_step_signature, finish, spectra_compiled_aside
+from impedance_mil.lab.compile_aside import WaitAfterLoop, csr_step_signature, finish, kernels_compiled_aside
 from impedance_mil.lab.stepping import advance_csr_called
 from impedance_mil.plant import TableParameters
 from impedance_mil.signals import builtin_motion
@@ -79,7 +79,7 @@ def test_the_run_waits_for_the_side_process_when_a_top_level_compile_of_the_loop
 def test_a_side_process_still_running_at_the_end_is_stopped(monkeypatch):
     hung = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
     monkeypatch.setattr(compile_aside, "start", lambda: hung)
-    with spectra_compiled_aside() as listener:
+    with kernels_compiled_aside() as listener:
         assert hung.poll() is None
     assert hung.returncode is not None and listener.succeeded is None
 
@@ -95,6 +95,6 @@ def test_the_side_process_compiles_the_plant_step_for_the_types_the_loop_passes(
 def test_no_side_process_with_a_single_usable_cpu(monkeypatch):
     monkeypatch.setattr(compile_aside, "usable_cpus", lambda: 1)
     assert compile_aside.start() is None
-    with spectra_compiled_aside() as listener:
+    with kernels_compiled_aside() as listener:
         pass
     assert listener.succeeded is None
