@@ -53,14 +53,10 @@ WAIT_S = 120.0
 def compile_spectrum_kernels() -> None:
     """Compile :func:`~impedance_mil.signals.response_spectrum`'s kernels for the argument types a run uses.
 
-    A run's accelerations reach the kernels as writable float64 arrays (lab.metrics) or
-    read-only ones (a run file's datasets); numba compiles one variant each of the kernel
-    that reads them.
+    ``imil simulate``'s metrics pass writable float64 accelerations (a read-only array would
+    be another variant, which ``simulate`` does not compile).
     """
-    accel = np.sin(np.linspace(0.0, 6.0, 64))
-    response_spectrum(accel, 0.01, [0.1, 1.0])
-    accel.setflags(write=False)
-    response_spectrum(accel, 0.01, [0.1, 1.0])
+    response_spectrum(np.sin(np.linspace(0.0, 6.0, 64)), 0.01, [0.1, 1.0])
 
 
 def csr_step_signature() -> tuple:
