@@ -43,6 +43,7 @@ from ..design.robust import RobustMargins
 from ..display import UnitSystem, display_unit, format_value
 from ..errors import ConfigError
 from ..lab.choices import Choices, frf_test, mil_test, tracking_test
+from ..lab.compile_aside import kernels_compiled_aside
 from ..lab.descriptions import (
     FRF_DELAYS,
     REQUIRED_CONSTRAINTS,
@@ -680,7 +681,10 @@ def notice_compiling() -> Iterator[None]:
         yield
         return
     err_console.print(f"imil: {COMPILING_NOTICE}", markup=False)
-    with compile_progress(lambda line: err_console.print(f"imil: {line}", markup=False)) as progress:
+    with (
+        compile_progress(lambda line: err_console.print(f"imil: {line}", markup=False)) as progress,
+        kernels_compiled_aside(),
+    ):
         yield
     if progress.announced:
         err_console.print(

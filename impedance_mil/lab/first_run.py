@@ -3,17 +3,19 @@
 numba compiles the compiled loop (:data:`impedance_mil.lab.tick.run_loop`) and
 the kernels it inlines once, then loads them from its cache: the first run after
 an install (or after the cache was cleared, or with a new ``NUMBA_CACHE_DIR``)
-takes seconds to a minute of compiling (19 s on the 2-core CI machine under
-load, measured with an empty ``NUMBA_CACHE_DIR``; 46-67 s before the loop's
-faster inliner, :mod:`impedance_mil.lab.inline_pipeline`), every later run about
-a second of loading.  A command says so before it starts, instead of seeming to hang
+takes seconds to a minute of compiling (11 s on the 2-core CI machine with a
+core free, 18 s on one core, measured with an empty ``NUMBA_CACHE_DIR``; 22-25 s
+before the changes of docs/lab.md "The first run, session 3", 46-67 s before
+the loop's faster inliner, :mod:`impedance_mil.lab.inline_pipeline`), every
+later run about a second of loading.  A command says so before it starts, instead of seeming to hang
 (issue 16, goal 4), and then says which group of kernels it is compiling
 (:func:`compile_progress`: "compiling kernels (first run only): 3/4 the compiled
 loop ...").
 
 Where the time goes (``benchmarks/bench_first_run.py``, docs/lab.md, "The first
-run"): the compiled loop is about 70 % of it (its LLVM code and its IR inlining
-about a third each), the spectra's kernels about 17 %.
+run"): the compiled loop is about 85 % of it (its LLVM code about half of that);
+the spectra's kernels and the loop's compressed-row plant step compile in a
+side process meanwhile (:mod:`impedance_mil.lab.compile_aside`).
 
 The test is whether the loop's cache index exists where numba will look for it.
 numba exposes no public call for that; the index path is read from the

@@ -26,25 +26,65 @@ from __future__ import annotations
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-from numba.core import ir
+from numba.core import inline_closurecall, ir
 from numba.core.compiler import CompilerBase, DefaultPassBuilder
 from numba.core.compiler_machinery import register_pass
 from numba.core.untyped_passes import InlineInlinables
 
+#: The hook ``copy.deepcopy`` looks up on a class (set on a class given as an argument).
+_DEEPCOPY = "__deepcopy__"
+
 
 @contextmanager
-def scopes_shared_by_deepcopy() -> Iterator[None]:
-    """Within the block, ``copy.deepcopy`` of a numba IR scope returns the scope itself."""
-    had_own = "__deepcopy__" in ir.Scope.__dict__
-    previous = ir.Scope.__dict__.get("__deepcopy__")
-    ir.Scope.__deepcopy__ = lambda self, memo: self
+def _deepcopy_returns_self(cls: type) -> Iterator[None]:
+    """Within the block, ``copy.deepcopy`` of an instance of ``cls`` returns the instance itself."""
+    had_own = _DEEPCOPY in cls.__dict__
+    previous = cls.__dict__.get(_DEEPCOPY)
+    setattr(cls, _DEEPCOPY, lambda self, memo: self)
     try:
         yield
     finally:
         if had_own:
-            ir.Scope.__deepcopy__ = previous
+            setattr(cls, _DEEPCOPY, previous)
         else:
-            del ir.Scope.__deepcopy__
+            delattr(cls, _DEEPCOPY)
+
+
+def scopes_shared_by_deepcopy():
+    """Within the block, ``copy.deepcopy`` of a numba IR scope returns the scope itself."""
+    return _deepcopy_returns_self(ir.Scope)
+
+
+class FreshCalleeInliner(inline_closurecall.InlineWorker):
+    """numba's ``InlineWorker``, without the two copies of a callee's IR that is built for one call site.
+
+    numba's ``inline_function`` builds the callee's IR afresh (``run_untyped_passes``)
+    and hands it to ``inline_ir``, which deep-copies it twice, block by block: one copy
+    to splice into the caller, one unmutated copy to return, which ``InlineInlinables``
+    drops.  The fresh IR has no other user, so here ``inline_ir`` splices it in itself
+    (``copy.deepcopy`` of a block returns the block while ``inline_ir`` runs; nothing
+    else in ``inline_ir`` copies).  With arguments' types (typed inlining, which updates
+    type maps from the copy) it is numba's method unchanged.
+    """
+
+    def inline_function(self, caller_ir, block, i, function, arg_typs=None):
+        if arg_typs is not None:
+            return super().inline_function(caller_ir, block, i, function, arg_typs=arg_typs)
+        callee_ir = self.run_untyped_passes(function)
+        with _deepcopy_returns_self(ir.Block):
+            return self.inline_ir(caller_ir, block, i, callee_ir, function.__code__.co_freevars)
+
+
+@contextmanager
+def fresh_callees_not_copied() -> Iterator[None]:
+    """Within the block, numba's inliner passes use :class:`FreshCalleeInliner` (they import
+    ``InlineWorker`` from its module when they run, the callees' own inliner passes too)."""
+    previous = inline_closurecall.InlineWorker
+    inline_closurecall.InlineWorker = FreshCalleeInliner
+    try:
+        yield
+    finally:
+        inline_closurecall.InlineWorker = previous
 
 
 @register_pass(mutates_CFG=True, analysis_only=False)
@@ -54,7 +94,7 @@ class InlineSharingScope(InlineInlinables):
     _name = "inline_inlinables_sharing_scope"
 
     def run_pass(self, state) -> bool:
-        with scopes_shared_by_deepcopy():
+        with scopes_shared_by_deepcopy(), fresh_callees_not_copied():
             return super().run_pass(state)
 
 
@@ -69,4 +109,10 @@ class LoopCompiler(CompilerBase):
         return [pm]
 
 
-__all__ = ["InlineSharingScope", "LoopCompiler", "scopes_shared_by_deepcopy"]
+__all__ = [
+    "FreshCalleeInliner",
+    "InlineSharingScope",
+    "LoopCompiler",
+    "fresh_callees_not_copied",
+    "scopes_shared_by_deepcopy",
+]

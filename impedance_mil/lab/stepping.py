@@ -185,7 +185,8 @@ def plant_advance(
     q_i + osc_c_i q_i'``) and the load cells' output ``(C_lc, D_lc, lc_own)``
     the filters of the load-cell channels read (:func:`load_cell_force`).  Both kinds take the same RK4 stages; the bank
     evaluates them in one loop per stage (:func:`advance_bank`), the general
-    form in :func:`advance_csr`.  ``work`` is a (5, len(y)) scratch array.
+    form in :func:`advance_csr` (called, not inlined: :data:`advance_csr_called`).
+    ``work`` is a (5, len(y)) scratch array.
     ``filters`` are the sensors' :class:`~impedance_mil.lab.structures.FilterArrays`
     (none: ``FilterArrays.none()``), stepped at the substep boundaries
     inside the loop (:func:`filter_boundary`) with the true values the RK4
@@ -195,7 +196,10 @@ def plant_advance(
     if kind == SPEC_BANK:
         advance_bank(pa, y, Cs, Ds, osc_k, osc_c, C_lc, D_lc, lc_own, current, dt, nsub, work, filters)
     else:
-        advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, C_lc, D_lc, lc_own, current, dt, nsub, work, filters)
+        # A call, not inlined (advance_csr_called): the default specimens take the bank path.
+        advance_csr_called(
+            pa, y, Av, Ac, Ap, Bs, Cs, Ds, C_lc, D_lc, lc_own, current, dt, nsub, work, filters
+        )
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -296,9 +300,10 @@ def advance_bank(pa, y, Cs, Ds, osc_k, osc_c, C_lc, D_lc, lc_own, current, dt, n
     y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD] = x, v, p1, p2, s, sd
 
 
-@njit(cache=True, inline="always", error_model="numpy")
 def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, C_lc, D_lc, lc_own, current, dt, nsub, work, filters):
     """:func:`plant_advance` for a general specimen state space (``kind == SPEC_CSR``).
+
+    Compiled as :data:`advance_csr_called` (a call from the loop, not inlined).
 
     Classical RK4 on :func:`coupled_derivative`, written out with the six
     table states as scalars (:func:`~impedance_mil.plant.nonlinear.table_rates`)
@@ -372,3 +377,15 @@ def advance_csr(pa, y, Av, Ac, Ap, Bs, Cs, Ds, C_lc, D_lc, lc_own, current, dt, 
         s += h / 6.0 * (sd + 2.0 * sd2 + 2.0 * sd3 + sd4)
         sd += h / 6.0 * (g1 + 2.0 * g2 + 2.0 * g3 + g4)
     y[IX_X], y[IX_V], y[IX_P1], y[IX_P2], y[IX_S], y[IX_SD] = x, v, p1, p2, s, sd
+
+
+#: :func:`advance_csr` compiled as a function of its own, which :func:`plant_advance` calls
+#: instead of inlining it (issue 16, goal 4).  Every stage of the compiled loop is inlined into
+#: one function, and numba's and LLVM's passes cost more than in proportion to its size; the
+#: compressed-row path (four more inlined table derivatives) is taken only by a specimen that is
+#: not a bank of oscillators (a coupled MDOF), never by the default vessel.  Out of line the
+#: loop's compile took 13.3-13.6 s of CPU instead of 16.8-17.8 s (alternating, load 3.2-3.5), the
+#: default loop's speed the same (bench_lab, 1025-1029x against 1023-1063x), and the results of
+#: either path are the same bit for bit (same operations, no fast-math).  ``_nrt=False`` as the
+#: loop's (lab/tick.py): it allocates nothing, and its array views would pay reference counting.
+advance_csr_called = njit(cache=True, error_model="numpy", _nrt=False)(advance_csr)

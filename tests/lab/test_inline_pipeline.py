@@ -12,9 +12,15 @@ import re
 
 import numpy as np
 from numba import njit
-from numba.core import ir
+from numba.core import inline_closurecall, ir
 
-from impedance_mil.lab.inline_pipeline import InlineSharingScope, LoopCompiler, scopes_shared_by_deepcopy
+from impedance_mil.lab.inline_pipeline import (
+    FreshCalleeInliner,
+    InlineSharingScope,
+    LoopCompiler,
+    fresh_callees_not_copied,
+    scopes_shared_by_deepcopy,
+)
 
 
 @njit(inline="always")
@@ -71,3 +77,13 @@ def test_the_scope_is_copied_again_after_the_pass():
     with scopes_shared_by_deepcopy():
         assert copy.deepcopy(scope) is scope
     assert copy.deepcopy(scope) is not scope and "__deepcopy__" not in ir.Scope.__dict__
+
+
+def test_numbas_inliner_and_block_copies_are_restored_after_the_pass():
+    njit(pipeline_class=LoopCompiler)(_loop)(np.zeros(2), np.ones(3), np.zeros(3), 0.1)
+    assert inline_closurecall.InlineWorker is not FreshCalleeInliner
+    block = ir.Block(ir.Scope(None, ir.Loc("f", 1)), ir.Loc("f", 1))
+    assert copy.deepcopy(block) is not block and "__deepcopy__" not in ir.Block.__dict__
+    with fresh_callees_not_copied():
+        assert inline_closurecall.InlineWorker is FreshCalleeInliner
+    assert inline_closurecall.InlineWorker is not FreshCalleeInliner
