@@ -7,10 +7,8 @@ from typing import TYPE_CHECKING
 
 from ..lazy import lazy_exports
 
-# ``discretize`` is also its submodule's name: it cannot be lazy (impedance_mil/lazy.py).
-from .discretize import ChannelRealization, DiscreteController, discretize, with_leak
-
 if TYPE_CHECKING:  # what the names are; each is imported on first use (below)
+    from .discretization import ChannelRealization, DiscreteController, discretize, with_leak
     from .runtime import MILRuntime, MILStep, MILTrace, mil_step_kernel, precision_dtype
 
 __all__ = [
@@ -30,6 +28,10 @@ __all__ = [
 __getattr__, __dir__ = lazy_exports(
     __name__,
     {
+        # the module is `discretization`, not `discretize`: a function named like its own
+        # submodule could not be lazy (impedance_mil/lazy.py), and a lab file's reader, which
+        # needs implement.io_units only, would import the discretization and the design package.
+        "discretization": ("ChannelRealization", "DiscreteController", "discretize", "with_leak"),
         "runtime": ("MILRuntime", "MILStep", "MILTrace", "mil_step_kernel", "precision_dtype"),
     },
 )

@@ -26,7 +26,7 @@ from ..virtual.definition import VSDefinition
 from ..virtual.files import from_parameters
 from ..virtual.vstype import VSType
 from .c import render_c
-from .discretize import DiscreteController, discretize
+from .discretization import DiscreteController, discretize
 from .identifiers import check_c_identifier, check_st_identifier
 from .io_units import IOUnits
 from .runtime import precision_dtype

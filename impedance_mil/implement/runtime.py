@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..virtual.system import DefinedVS
-from .discretize import DiscreteController
+from .discretization import DiscreteController
 from .kernels import controller_run, controller_step, controller_step_parts
 from .vs_tick import VSArrays, no_vs_tick, vs_tick_function
 

@@ -34,7 +34,7 @@ from ...errors import ConfigError
 from ...virtual.expressions import CONSTANTS, c_dialect
 from ...virtual.listing import Language, expression_type, tick_statements, value_types
 from ...virtual.system import DefinedVS
-from ..discretize import DiscreteController
+from ..discretization import DiscreteController
 from ..identifiers import check_c_identifier
 from ..io_units import IOUnits
 from ..runtime import precision_dtype

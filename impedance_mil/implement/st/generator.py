@@ -23,7 +23,7 @@ from ...virtual.expressions import CONSTANTS, st_dialect
 from ...virtual.listing import Language, tick_statements
 from ...virtual.stepping import RK3
 from ..c.generator import definition_of
-from ..discretize import DiscreteController
+from ..discretization import DiscreteController
 from ..identifiers import check_st_identifier
 from ..io_units import IOUnits
 from ..runtime import precision_dtype

@@ -31,7 +31,7 @@ from impedance_mil.design.optimized import problem as problem_module
 from impedance_mil.design.optimized.certify import certify, closed_velocity, path_state_space
 from impedance_mil.design.optimized.exchange import log_points
 from impedance_mil.errors import ConfigError, DesignRefused, MissingDependencyError
-from impedance_mil.implement.discretize import discretize
+from impedance_mil.implement.discretization import discretize
 from impedance_mil.plant import LinearTable, TableParameters
 from impedance_mil.report_config import report_config
 from impedance_mil.units import TWO_PI
