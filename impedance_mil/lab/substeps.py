@@ -31,6 +31,7 @@ import scipy.optimize
 
 from ..errors import ConfigError
 from ..plant.nonlinear import IX_V, N_TABLE_STATES
+from ..specimens.arrays import specimen_state_space
 from .lti_plant import LTIVirtualTable
 
 #: Largest one-step relative error ``|R(i theta) exp(-i theta) - 1|`` of RK4 allowed
@@ -91,20 +92,6 @@ class SubstepChoice:
             "rk4_step_bound": RK4_STEP_BOUND,
             "rk4_step_tolerance": RK4_STEP_TOLERANCE,
         }
-
-
-def specimen_state_space(specimen):
-    """``(A, B, C, D)`` of a specimen (input z [in/s^2], output w [lbf]); ``None``: no states."""
-    if specimen is None:
-        return np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
-    ss = specimen.state_space() if hasattr(specimen, "state_space") else specimen
-    n = np.size(ss.B)
-    return (
-        np.asarray(ss.A, dtype=float).reshape(n, n),
-        np.asarray(ss.B, dtype=float).ravel(),
-        np.asarray(ss.C, dtype=float).ravel(),
-        float(ss.D),
-    )
 
 
 def coupled_state_matrix(table, specimen=None) -> np.ndarray:

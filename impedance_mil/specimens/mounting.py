@@ -52,6 +52,7 @@ import numpy as np
 from ..errors import ConfigError
 from ..lazy import LazyModule
 from ..units import G0, TWO_PI
+from .arrays import specimen_state_space
 
 if TYPE_CHECKING:
     from ..systems import TransferFunction
@@ -180,26 +181,13 @@ class LoadCellOutput:
     D: float
 
 
-def _article_arrays(article) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    if article is None:
-        return np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
-    ss = article.state_space() if hasattr(article, "state_space") else article
-    n = np.size(ss.B)
-    return (
-        np.asarray(ss.A, dtype=float).reshape(n, n),
-        np.asarray(ss.B, dtype=float).ravel(),
-        np.asarray(ss.C, dtype=float).ravel(),
-        float(ss.D),
-    )
-
-
 def _article_mass(article) -> float:
     """The article's total mass [lbf*s**2/in] (minus its DC impedance when it has no ``total_mass``)."""
     if article is None:
         return 0.0
     if hasattr(article, "total_mass"):
         return float(article.total_mass)
-    A, B, C, D = _article_arrays(article)
+    A, B, C, D = specimen_state_space(article)
     return -(D - float(C @ np.linalg.solve(A, B))) if B.size else -D
 
 
@@ -229,7 +217,7 @@ class MountedSpecimen:
 
     # -- composition ------------------------------------------------------------------
     def _build(self) -> None:
-        Aa, Ba, Ca, Da = _article_arrays(self.article)
+        Aa, Ba, Ca, Da = specimen_state_space(self.article)
         n = Ba.size
         cells = self.mounting.load_cells
         carried = (cells.base_mass if cells else 0.0) + _article_mass(self.article)
