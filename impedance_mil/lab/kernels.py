@@ -92,6 +92,21 @@ HF_STATE = np.dtype(HF_STATE_FIELDS, align=True)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def channel_reading(sensors, c, value, noise_row):
+    """Channel ``c``'s reading of the analog ``value`` (its calibration, noise, quantization, range)."""
+    return read_channel(
+        value,
+        noise_row[c],
+        sensors.scale[c],
+        sensors.offset[c],
+        sensors.noise_rms[c],
+        sensors.lsb[c],
+        sensors.v_low[c],
+        sensors.v_high[c],
+    )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def measure_quantities(sensors, noise_row, readings, time_s, mass, area):
     """The :class:`Measurements` of the true quantities in ``sensors.quantities`` (order of QUANTITIES).
 
@@ -122,32 +137,14 @@ def measure_quantities(sensors, noise_row, readings, time_s, mass, area):
         filter_sense(f, q)
         for i in range(f.channel.shape[0]):
             c = f.channel[i]
-            readings[c] = read_channel(
-                f.state[i, 0],
-                noise_row[c],
-                sensors.scale[c],
-                sensors.offset[c],
-                sensors.noise_rms[c],
-                sensors.lsb[c],
-                sensors.v_low[c],
-                sensors.v_high[c],
-            )
+            readings[c] = channel_reading(sensors, c, f.state[i, 0], noise_row)
     d = sensors.delays
     if d.channel.shape[0] > 0:
         # A delayed channel reads its analog value (filtered or true) some loops back.
         delay_sense(d, f, q, sensors.gain, sensors.quantity_index)
         for i in range(d.channel.shape[0]):
             c = d.channel[i]
-            readings[c] = read_channel(
-                delayed_value(d, i),
-                noise_row[c],
-                sensors.scale[c],
-                sensors.offset[c],
-                sensors.noise_rms[c],
-                sensors.lsb[c],
-                sensors.v_low[c],
-                sensors.v_high[c],
-            )
+            readings[c] = channel_reading(sensors, c, delayed_value(d, i), noise_row)
     z_meas = readings[sensors.z_channel]
     dp_meas = readings[sensors.dp_channel]
     return Measurements(
