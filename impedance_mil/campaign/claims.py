@@ -310,7 +310,10 @@ def _fc_instability(rows: SummaryTable) -> tuple:
     if 100.0 not in state or not above:
         return NOT_RUN, "the 42 in runs at f_c = 100 Hz and above are missing", (), "", "", False
     ok = all(state[f] == "stable" for f in below) and all(state[f] == "unstable" for f in above)
-    text = "42 in, GM1: " + ", ".join(f"{f:g} Hz {state[f] or 'inconclusive'}" for f in sorted(state))
+    motions = sorted({str(r.get("motion")) for r in rows.where(water_depth=42.0).rows if r.get("motion")})
+    text = f"42 in, {', '.join(motions) or 'motion unrecorded'}: " + ", ".join(
+        f"{f:g} Hz {state[f] or 'inconclusive'}" for f in sorted(state)
+    )
     text += "; high-frequency rms ratio " + ", ".join(f"{v:.3f} at {f:g} Hz" for f, v in zip(x, y))
     curves = (
         Curve("toolkit", x, y),
@@ -454,6 +457,12 @@ REPORT_THRESHOLDS = {"SD2": 0.7, "LR2": 0.8, "FP2": 0.9}
 THRESHOLD_TOLERANCE = 0.1
 
 
+def _cutoffs(rows: SummaryTable) -> str:
+    """The cut-offs f_c the rows ran at, as text (``80 Hz``), read from the runs, not assumed."""
+    values = sorted({float(r["f_c"]) for r in rows.rows if isinstance(r.get("f_c"), (int, float))})
+    return ", ".join(f"{v:g}" for v in values) + " Hz" if values else "unrecorded"
+
+
 def _instability_threshold(vs: str) -> Callable:
     """Evaluation: the largest unstable m_vs/m_st of ``vs`` lies within +-0.1 of the report's and
     every larger ratio is stable."""
@@ -477,7 +486,7 @@ def _instability_threshold(vs: str) -> Callable:
             and all(r > threshold for r in stable)
         )
         text = (
-            f"{vs}, f_c = 80 Hz: unstable at m_vs/m_st = "
+            f"{vs}, f_c = {_cutoffs(rows.where(vs=vs))}: unstable at m_vs/m_st = "
             + (", ".join(f"{r:g}" for r in unstable) or "none")
             + "; stable at "
             + (", ".join(f"{r:g}" for r in stable) or "none")
