@@ -97,17 +97,9 @@ def run_case(lab_text: str | None, fc: float, folder: Path, extra_loops: int = 0
     config = kind.resolve(config) if kind.resolve else config
     if extra_loops:
         # a delay the design does not know: the lab's output delay beyond the table's (as [uncertainty] extra_delay)
-        real_lab = labkinds._lab
-
-        def delayed(cfg, used):
-            choice = real_lab(cfg, used)
-            return replace(choice, output_delay=choice.output_delay + extra_loops)
-
-        labkinds._lab = delayed
-        try:
-            metrics = labkinds.run_tracking_kind(config, folder / "run.h5")
-        finally:
-            labkinds._lab = real_lab
+        test, source = labkinds.tracking_test_of(config)
+        test = replace(test, lab=replace(test.lab, output_delay=test.lab.output_delay + extra_loops))
+        metrics = labkinds.controlled_metrics(test, test.run(), source, folder / "run.h5")
     else:
         metrics = kind.run(config, folder / "run.h5")
     row = {**metrics, "status": "aborted" if metrics.get("aborted") else "ok"}

@@ -280,12 +280,17 @@ def controlled_metrics(
     return metrics
 
 
-def run_tracking_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
-    """Acceleration tracking of a report motion (Section 8); see the module docstring."""
+def tracking_test_of(config: dict[str, Any]) -> tuple[TrackingTest, str]:
+    """The :class:`TrackingTest` a ``tracking`` run configuration describes, and its motion's source."""
     motion, source = _motion(config)
     used: dict[str, Any] = {}
     lab = _lab(config, used)
-    test = TrackingTest(_table(config), _specimen(config), motion, _controller(config), lab, used)
+    return TrackingTest(_table(config), _specimen(config), motion, _controller(config), lab, used), source
+
+
+def run_tracking_kind(config: dict[str, Any], out_path: Path) -> dict[str, Any]:
+    """Acceleration tracking of a report motion (Section 8); see the module docstring."""
+    test, source = tracking_test_of(config)
     return controlled_metrics(test, test.run(), source, out_path)
 
 
