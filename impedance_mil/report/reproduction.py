@@ -21,7 +21,7 @@ from ..campaign.claims import AGREE, CLAIMS, DISAGREE, NOT_RUN, Claim, ClaimOutc
 from ..campaign.store import CampaignStore
 from ..campaign.summary import NOT_RUN as RUN_NOT_RUN
 from ..campaign.summary import SummaryTable, load_summary
-from ..errors import ImilError
+from ..errors import ConfigError, ImilError
 from ..lab.calibration_record import CalibrationRecord
 from ..lab.labfile import load_lab
 from .html import STYLES, escape, figure_svg, html_page, new_figure, write_html
@@ -85,15 +85,23 @@ def claim_role(claim: Claim, calibrations: Sequence[CalibrationRecord]) -> str:
 def lab_calibrations(tables: Sequence[SummaryTable]) -> tuple[CalibrationRecord, ...]:
     """The ``[calibration]`` records of the lab files the runs name (column ``lab``).
 
-    A lab file that can no longer be read contributes nothing (the page lists the labs it read).
+    Raises
+    ------
+    ConfigError
+        A lab the runs name cannot be read: which claim it was calibrated on cannot be told,
+        so no claim could be marked calibrated or predicted honestly.
     """
     names = sorted({str(v) for t in tables if "lab" in t.columns for v in t.column("lab") if v})
     records = []
     for name in names:
         try:
             record = load_lab(name).calibration
-        except (ImilError, OSError):
-            continue
+        except ImilError as exc:
+            raise ConfigError(
+                f"lab {name}",
+                "the lab file the runs were made on, readable from here (it says which claim it was "
+                f"calibrated on): {exc}",
+            ) from None
         if record is not None and record not in records:
             records.append(record)
     return tuple(records)

@@ -4,9 +4,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 import impedance_mil
 from impedance_mil.campaign.claims import CLAIMS
 from impedance_mil.campaign.summary import SummaryTable
+from impedance_mil.errors import ConfigError
 from impedance_mil.report.reproduction import CALIBRATED, PREDICTED, claim_role, lab_calibrations
 
 TABLE_4_1 = Path(impedance_mil.__file__).parent / "data" / "tables" / "report_table_4_1.toml"
@@ -38,3 +41,9 @@ def test_roles_follow_the_calibration_record_of_the_lab_the_runs_used(tmp_path):
     # Runs on the report's setup (no lab, or an uncalibrated one): no roles at all.
     assert lab_calibrations([_rows(None), _rows("report")]) == ()
     assert claim_role(by_id["sec9-basemat-mass"], ()) == ""
+
+
+def test_a_lab_that_cannot_be_read_is_named_not_ignored(tmp_path):
+    # Ignoring it would show the claim it was calibrated on as predicted.
+    with pytest.raises(ConfigError, match="lab .*gone.toml"):
+        lab_calibrations([_rows(str(tmp_path / "gone.toml"))])
