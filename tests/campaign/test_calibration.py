@@ -46,7 +46,7 @@ lab = "base.toml"
 why = "test"
 [parameter]
 name = "force-channel delay"
-keys = ["sensors.lc.bits"]
+keys = ["sensors.lc.delay"]
 unit = "ms"
 min = "0 ms"
 max = "{max}"
@@ -64,7 +64,7 @@ unstable = "150 Hz"
 def fake_run(config, out_path):
     # The calibrated key is written into the lab file the run is given; read it back.
     lab = read_toml(config["lab"])
-    value_ms = quantity("lc", lab["sensors"]["lc"]["bits"], "ms")
+    value_ms = quantity("lc", lab["sensors"]["lc"]["delay"], "ms")
     unstable = value_ms >= ONSET_MS[config["controller"]["fc_hz"]]
     # below the onset the oscillation grows with the value, as it does towards an instability
     return {"hf_ratio": 2.0 if unstable else 0.1 + 0.1 * value_ms, "aborted": False}
@@ -90,7 +90,7 @@ def test_bisection_finds_both_onsets_and_takes_their_midpoint(protocol, tmp_path
     assert len(record["evaluations"]) == len(result.evaluations) <= 2 * 10 + 4
     # The calibrated lab reads back, names the claim, and holds the value.
     lab = read_toml(tmp_path / "out" / "calibrated-lab.toml")
-    assert quantity("v", lab["sensors"]["lc"]["bits"], "ms") == pytest.approx(result.value, rel=1e-5)
+    assert quantity("v", lab["sensors"]["lc"]["delay"], "ms") == pytest.approx(result.value, rel=1e-5)
     assert lab["calibration"]["claim"] == "sec8-fc-instability"
 
 
@@ -122,7 +122,7 @@ def test_the_calibration_record_is_read_with_the_lab(tmp_path):
         ('lab = "base.toml"', 'lab = "missing.toml"', "calibration.lab"),
         ('min = "0 ms"', 'min = "0 lbf"', "parameter.min"),
         ('max = "{max}"', 'max = "0 ms"', "parameter.max"),
-        ('keys = ["sensors.lc.bits"]', 'keys = ["bits"]', "parameter.keys"),
+        ('keys = ["sensors.lc.delay"]', 'keys = ["delay"]', "parameter.keys"),
         ('kind = "tracking"', 'kind = "design"', "observation.kind"),
         ('vary = "f_c"', 'vary = "water_depth"', "observation.vary"),
         ('stable = "100 Hz"', 'stable = "100 in"', "observation.stable"),
