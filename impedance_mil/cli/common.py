@@ -18,14 +18,17 @@ from ..errors import ConfigError
 from ..fileio import json_safe
 from ..lazy import LazyModule
 from ..plant import TableParameters, default_table_path
-from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
+from ..plant.table_kind import is_lti_table_file
 from ..report.documents import TF_COEFFICIENTS, express
 
-if TYPE_CHECKING:  # the lab-file reader is imported on first use (below): `imil table info` needs none
+if TYPE_CHECKING:  # the readers are imported on first use (below): `imil table info` needs none
     from ..lab.labfile import LabSetup
+    from ..plant.table_files import TableDefinition
 
 #: The lab-file reader, imported when a command first reads a lab (issue 16, start-up).
 labfile = LazyModule("impedance_mil.lab.labfile")
+#: The table-file reader of either kind, imported when a command first reads an LTI table file.
+table_files = LazyModule("impedance_mil.plant.table_files")
 
 #: Console for human-readable output (stdout).
 console = Console(highlight=False, soft_wrap=True)
@@ -99,7 +102,7 @@ def table_definition(
     ``imil design``); ``--set`` is refused for an LTI table, and ``--lab`` with ``--table``.
     """
     if table is not None and lab is None and is_lti_table_file(table):
-        return read_table_file(table, parse_overrides(sets))
+        return table_files.read_table_file(table, parse_overrides(sets))
     return table_parameters(table, sets, lab)
 
 

@@ -46,3 +46,8 @@ LAB_UNITS = {
     "table": "see imil table info",
     **{f"dynamics.{k}": v for k, v in DYNAMICS_UNITS.items()},
 }
+
+#: Paths of :meth:`~impedance_mil.lab.labfile.LabSetup.to_dict` that hold an optional section, an
+#: object (null when the lab has none): no number, so the JSON ``units`` block needs no registry
+#: to name them (tests/lab/test_labfile.py holds this list to the document).
+LAB_OBJECTS = frozenset({"uncertainty", "calibration", "dynamics.platen", "dynamics.load_cells"})

@@ -34,18 +34,19 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..config import Field, parse_fields, quantity, read_toml
 from ..display import UnitSystem, unit_system
 from ..errors import ConfigError
 from ..implement.io_units import IOUnits
+from ..lazy import LazyModule
 from ..plant import TableParameters
 from ..plant.lti_table import LTITable
 from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
 from ..plant.table_dynamics import TABLE_DYNAMICS_SECTIONS, parse_table_dynamics
-from ..plant.table_files import TableDefinition, is_lti_table_file, read_table_file
+from ..plant.table_kind import is_lti_table_file
 from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .calibration_record import CalibrationRecord, parse_calibration
@@ -55,6 +56,13 @@ from .labsensors import Converter, SensorSetup, channel_dynamics, sensor_setup
 from .lti_lab import lti_lab_limits, lti_sensor_ranges
 from .lti_plant import lti_limits, virtual_table_for
 from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
+
+if TYPE_CHECKING:  # the readers of the LTI kinds are imported on first use (below)
+    from ..plant.table_files import TableDefinition
+
+#: The table-file reader of either kind, imported when a lab's table is an LTI table file: the
+#: readers of its kinds are not needed for a physical table (``imil lab show``: issue 16, start-up).
+table_files = LazyModule("impedance_mil.plant.table_files")
 
 #: Name of the shipped lab of the report (its sections live in data/report/config.toml).
 REPORT_LAB = "report"
@@ -495,7 +503,7 @@ def _table(
                     f"no table keys beside the LTI table file {file.name} (its model is the table)",
                 )
             sources["table"] = f"file {file.name}"
-            return read_table_file(file, overrides)
+            return table_files.read_table_file(file, overrides)
         keys.update(table_mapping(read_toml(file), file))
         sources["table"] = f"file {file.name}"
     else:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..config import read_toml
 from ..errors import ConfigError
@@ -32,23 +32,15 @@ from .frf_table import KIND as FRF_KIND
 from .lti_reader import lti_table_from_mapping
 from .lti_table import LTITable
 from .parameters import FIELDS, TableParameters, merge_overrides, table_mapping
-from .rational import RationalFit
+from .table_kind import LTI_FILE_SECTIONS as LTI_FILE_SECTIONS  # re-exported, as the two below
+from .table_kind import is_lti_table_data
+from .table_kind import is_lti_table_file as is_lti_table_file
 
-#: Sections of an LTI table file: the model, and what the table can do (:mod:`.capacity`).
-LTI_FILE_SECTIONS = ("model", "capacity")
+if TYPE_CHECKING:  # the fits' type only (a writer's argument): fitting is not reading
+    from .rational import RationalFit
 
 #: What a table file holds: the physical parameters, or a linear model.
 TableDefinition = TableParameters | LTITable
-
-
-def is_lti_table_data(data: Mapping[str, Any]) -> bool:
-    """Whether a parsed table file is an LTI table (it has a ``[model]`` section)."""
-    return "model" in data
-
-
-def is_lti_table_file(path: str | Path) -> bool:
-    """Whether the table file at ``path`` is an LTI table (DataFileError if unreadable)."""
-    return is_lti_table_data(read_toml(path))
 
 
 def read_table_file(path: str | Path, overrides: Mapping[str, Any] | None = None) -> TableDefinition:

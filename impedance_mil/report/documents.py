@@ -21,7 +21,10 @@ The unit of a field is found, in this order, from
    sensor channels, a trip), which is converted along with it, or the unit
    suffix of the object's own key (``comparison.peak_table_disp_in.measured``);
 5. the package's key registries (:func:`key_units`: table file keys, VS
-   parameters, lab-file keys).
+   parameters, lab-file keys).  The VS types' registry is read only for a key the
+   others do not name (building it imports every VS type; a lab's or a table's
+   document does not need it: issue 16, start-up); the registries name disjoint keys
+   (tests/report/test_documents.py), so the order does not change a unit.
 
 A number none of these names is listed as ``"unknown"``;
 ``tests/report/test_documents.py`` runs every command's JSON and requires none.
@@ -36,9 +39,13 @@ from typing import Any
 
 from ..display import UnitSystem, display_unit, key_suffix, short_name
 from ..fileio import json_safe
-from ..lab.lab_units import LAB_UNITS
+from ..lab.lab_units import LAB_OBJECTS, LAB_UNITS
+from ..lazy import LazyModule
 from ..plant.parameters import ALTERNATIVES, FIELDS
-from ..virtual.files import UNITS as VS_UNITS
+
+#: The VS types' key registry (``virtual.files.UNITS``), imported when a key of a document is
+#: in no other registry (see the module).
+vs_files = LazyModule("impedance_mil.virtual.files")
 
 #: The unit name of pure numbers and counts in a ``units`` block.
 PURE = "1"
@@ -150,14 +157,24 @@ _DIMENSIONLESS_RE = re.compile(
 
 
 @cache
-def key_units() -> dict[str, str]:
-    """Internal unit of every key the package's registries know (table, VS, lab file)."""
+def own_key_units() -> dict[str, str]:
+    """Internal unit of every key of the registries other than the VS types' (table file, motion, VS loop)."""
     units = {key: field.unit for key, field in FIELDS.items()}
     units.update({key: field.unit for key, (_, field) in ALTERNATIVES.items()})
-    units.update(VS_UNITS)
     units.update({"pga": "g0", "pga_original": "g0", "fc": "hertz"})
     units.update(_VS_LOOP_UNITS)
     return units
+
+
+def key_units() -> dict[str, str]:
+    """Internal unit of every key the package's registries know (table, VS, lab file)."""
+    return {**vs_files.UNITS, **own_key_units()}
+
+
+def registry_unit(key: str) -> str | None:
+    """The unit :func:`key_units` names for ``key``; the VS types' registry is read only when no other names it."""
+    own = own_key_units()
+    return own[key] if key in own else vs_files.UNITS.get(key)
 
 
 #: The keys of a VS loop's summary (``imil vs loops``).
@@ -254,7 +271,9 @@ def _field_unit(key: str, path: str, sibling: str | None) -> tuple[str, str]:
         return "pure", PURE
     if sibling is not None:
         return "sibling", _pint(sibling)
-    found = key_units().get(key) or next((u for p, u in _KEY_PATTERNS if p.match(key)), None)
+    if path in LAB_OBJECTS:  # a lab's optional section: an object, null when the lab has none
+        return "unknown", UNKNOWN
+    found = registry_unit(key) or next((u for p, u in _KEY_PATTERNS if p.match(key)), None)
     return ("registry", found) if found is not None else ("unknown", UNKNOWN)
 
 

@@ -20,6 +20,9 @@ from impedance_mil.cli.table import TABLE_COMMANDS
 from impedance_mil.cli.vs import VS_COMMANDS
 from impedance_mil.plant import default_table_path
 
+#: An LTI table file (a [model] section) shipped with the package.
+RTHS_TABLE = default_table_path().parent / "rths_benchmark_plant.toml"
+
 try:
     from typer._click.utils import make_default_short_help
 except ImportError:  # pragma: no cover - depends on the installed typer
@@ -58,13 +61,13 @@ def test_help_imports_no_command_module_and_nothing_heavy():
 
 
 #: What a command that only reads a configuration may not import (issue 16, goal 1): HEAVY,
-#: scipy.signal, and pint (0.5 s with its registry; the units of the shipped files are read
-#: without it, impedance_mil/unit_names.py), which would import dask in pint.compat.
-CONFIGURATION_HEAVY = (*HEAVY, "scipy.signal", "pint")
+#: scipy (any of it), h5py, and pint (0.5 s with its registry; the units of the shipped files
+#: are read without it, impedance_mil/unit_names.py), which would import dask in pint.compat.
+CONFIGURATION_HEAVY = (*HEAVY, "scipy", "h5py", "pint")
 
 #: What such a command may import when it prints in SI units: pint converts to the SI units
-#: (and imports dask itself, in pint.compat, when it is installed).
-SI_ALLOWED = ("pint", "dask")
+#: (and imports scipy and dask itself, in pint.compat, when they are installed).
+SI_ALLOWED = ("pint", "dask", "scipy")
 
 #: Prints, after ``imil ARGS`` ran, the modules of CONFIGURATION_HEAVY it imported.
 CONFIGURATION_PROBE = """
@@ -101,6 +104,51 @@ def test_a_configuration_command_imports_no_heavy_module(args):
         check=True,
     )
     assert done.stdout.splitlines()[-1].split() == []  # the probe's line comes last
+
+
+#: Parts of the library a configuration command does not need (issue 16, goal 1: 0.1 s of the
+#: 0.4 s of `imil lab show` before they were cut): the VS types' registry (imported by the JSON
+#: units of a key no other registry names: report/documents.py), the readers of the LTI table
+#: kinds (plant/table_kind.py answers which kind a file is), and the lab's linear-table model.
+NOT_NEEDED = {
+    ("lab", "show"): ("impedance_mil.virtual.files", "impedance_mil.plant.table_files"),
+    ("lab", "show", "--json"): ("impedance_mil.virtual.files", "impedance_mil.plant.table_files"),
+    ("table", "info"): ("impedance_mil.virtual.files", "impedance_mil.plant.table_files"),
+    ("table", "info", "--json"): ("impedance_mil.virtual.files", "impedance_mil.plant.table_files"),
+    ("vs", "list"): ("impedance_mil.plant.linear", "impedance_mil.plant.table_files"),
+    ("vs", "list", "--json"): ("impedance_mil.plant.linear", "impedance_mil.plant.table_files"),
+}
+
+
+@pytest.mark.parametrize("args", list(NOT_NEEDED), ids=" ".join)
+def test_a_configuration_command_imports_only_the_library_it_needs(args):
+    done = subprocess.run(
+        [sys.executable, "-c", CONFIGURATION_PROBE.format(heavy=NOT_NEEDED[args]), *args],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert done.stdout.splitlines()[-1].split() == []
+
+
+@pytest.mark.parametrize(
+    "args, needed",
+    [
+        (("vs", "list"), "impedance_mil.virtual.files"),
+        (("table", "info", "--table", str(RTHS_TABLE)), "impedance_mil.plant.table_files"),
+        (("table", "info"), "impedance_mil.plant.linear"),
+    ],
+    ids=lambda v: v if isinstance(v, str) else " ".join(a.rsplit("/", 1)[-1] for a in v),
+)
+def test_the_library_probe_sees_a_module_a_command_needs(args, needed):
+    # Not blind: a command that uses a part imports it (an LTI table file needs its reader).
+    done = subprocess.run(
+        [sys.executable, "-c", CONFIGURATION_PROBE.format(heavy=(needed,)), *args],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert done.stdout.splitlines()[-1].split() == [needed]
 
 
 def test_the_configuration_probe_sees_a_heavy_module():

@@ -15,10 +15,12 @@ import pytest
 
 from impedance_mil.errors import ConfigError
 from impedance_mil.lab.clipping import clipped_channels
+from impedance_mil.lab.lab_units import LAB_OBJECTS
 from impedance_mil.lab.labfile import load_lab
 from impedance_mil.lab.setup import SafetyLimits, default_sensors
 from impedance_mil.plant import TableParameters, default_table_path
 from impedance_mil.plausibility import PlausibilityWarning
+from impedance_mil.report_config import REPORT_CONFIG_PATH
 
 TABLE = default_table_path()
 
@@ -194,3 +196,30 @@ def test_bad_io_units_name_the_key(tmp_path, value, key):
         load_lab(_lab(tmp_path, f"[controller]\nio_units = {value}\n"))
     assert str(err.value).startswith(f"lab.toml: {key}:")
     assert "\n" not in str(err.value)
+
+
+def _at(doc, path):
+    for part in path.split("."):
+        doc = doc[part]
+    return doc
+
+
+def test_lab_objects_are_the_optional_sections_of_the_document(tmp_path):
+    # lab_units.LAB_OBJECTS lets the JSON units block pass these paths without the VS registry
+    # (issue 16, start-up): each must be an object when the lab has the section, null when not.
+    full = load_lab(
+        _lab(
+            tmp_path,
+            '[uncertainty]\nf_oil_hz = "±5 %"\n'
+            "[dynamics.platen]\nmodal_mass = 0.2\nfrequency = 150\n"
+            "[dynamics.load_cells]\nstiffness = 2e6\n",
+        )
+    ).to_dict()
+    calibrated = load_lab(
+        REPORT_CONFIG_PATH.parents[1] / "labs/calibrated-footnote22/calibrated-lab.toml"
+    ).to_dict()
+    report = load_lab("report").to_dict()
+    for path in LAB_OBJECTS:
+        given = _at(calibrated if path == "calibration" else full, path)
+        assert isinstance(given, dict) and given, path
+        assert _at(report, path) is None, path

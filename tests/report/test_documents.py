@@ -15,7 +15,17 @@ import pytest
 
 from impedance_mil.display import UnitSystem, display_unit, format_value, unit_system
 from impedance_mil.errors import ConfigError
-from impedance_mil.report.documents import TF_COEFFICIENTS, UNKNOWN, express
+from impedance_mil.lab.lab_units import LAB_OBJECTS
+from impedance_mil.report.documents import (
+    _KEY_PATTERNS,
+    TF_COEFFICIENTS,
+    UNKNOWN,
+    express,
+    key_units,
+    own_key_units,
+    registry_unit,
+)
+from impedance_mil.virtual.files import UNITS as VS_UNITS
 
 SI, US = UnitSystem.SI, UnitSystem.US
 LBF_N = 4.4482216152605
@@ -138,3 +148,24 @@ def test_si_values_are_the_internal_values_times_their_factor():
 def test_a_number_no_rule_names_is_listed_as_unknown():
     assert express({"mystery": 1.0}, SI)["units"] == {"mystery": UNKNOWN}
     assert math.isclose(express({"mystery": 1.0}, SI)["mystery"], 1.0)  # and left as it is
+
+
+def test_the_vs_registry_and_the_others_name_disjoint_keys():
+    # express() reads the VS types' registry only for a key no other registry names (issue 16,
+    # start-up): the order matters only where both name a key, so none may.
+    assert set(own_key_units()) & set(VS_UNITS) == set()
+    for key in {*own_key_units(), *VS_UNITS, "mystery"}:
+        assert registry_unit(key) == key_units().get(key), key
+    assert registry_unit("Ke") == "volt / inch" and registry_unit("k_s") == VS_UNITS["k_s"]
+
+
+def test_a_lab_section_is_an_object_as_before_not_a_number_named_by_a_registry():
+    # The lab's optional sections (null when absent) pass without the registries: no registry
+    # or key pattern names their keys, so the rules gave them no unit before either.
+    for path in LAB_OBJECTS:
+        key = path.rsplit(".", 1)[-1]
+        assert key_units().get(key) is None and not any(p.match(key) for p, _ in _KEY_PATTERNS), key
+    doc = {"dynamics": {"platen": None, "stiffness": 1.0}, "calibration": None}
+    shown = express(doc, SI)
+    assert shown["dynamics"]["platen"] is None and shown["calibration"] is None
+    assert set(shown["units"]) == {"dynamics.stiffness"}
