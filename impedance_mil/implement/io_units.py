@@ -33,11 +33,14 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..config import quantity
 from ..errors import ConfigError
-from .safety import CommandLimits, check_renderable
+from .renderable import check_renderable
+
+if TYPE_CHECKING:  # the limits' type only: the command limits are not read with a lab file
+    from .safety import CommandLimits
 
 __all__ = ["INTERNAL_IO", "IO_QUANTITIES", "SI_UNITS", "IOUnit", "IOUnits"]
 

@@ -37,11 +37,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
 from ..config import quantity
 from ..errors import ConfigError
 from ..signals.limits import TableLimits
+from .renderable import VALUE_LIMIT, check_renderable
 
 __all__ = [
     "COEFFICIENTS",
@@ -87,9 +86,6 @@ FAULT_TEXT = {
     Fault.CLAMP: "the command was clamped to the stroke",
     Fault.RATE: "the command was rate limited",
 }
-
-#: Bound on every coefficient and internal state, by precision (see the module docstring).
-VALUE_LIMIT = {"single": 1e18, "double": 1e150}
 
 #: The input ranges are this many times the table's capacity: its force capacity
 #: ``A_p (P_S - P_R)`` for ``w`` [lbf], that force over the table's mass for ``z_vs`` and
@@ -299,48 +295,3 @@ def rendered_limits(limits: CommandLimits, loop_time_s: float, precision: str) -
     for key, value in values.items():
         check_renderable(f"limits.{key}", value, precision, "a limit")
     return {**values, "value_limit": VALUE_LIMIT[precision]}
-
-
-def _tiny(precision: str) -> float:
-    return float(np.finfo(np.float32 if precision == "single" else np.float64).tiny)
-
-
-def check_renderable(name: str, values: Any, precision: str, what: str = "values") -> None:
-    """Refuse numbers the generated code cannot hold exactly in ``precision``.
-
-    Every coefficient, VS parameter and limit the generators render must be
-    finite in the precision, within :data:`VALUE_LIMIT` (so that the guards'
-    overflow argument holds), and a non-zero value must not round to zero
-    or to a subnormal number (it would lose its digits).
-
-    Parameters
-    ----------
-    name : str
-        What the values are (``"H_uz"``, ``"vs.m_vs"``), for the message.
-    values : array_like
-        The numbers (any shape), in double precision.
-    precision : {"single", "double"}
-    what : str
-        What the values are, for the message (``"discrete coefficients"``).
-
-    Raises
-    ------
-    ConfigError
-        Naming ``name``, the first offending value and its position.
-    """
-    arr = np.asarray(values, dtype=float)
-    limit, tiny = VALUE_LIMIT[precision], _tiny(precision)
-    dtype = np.float32 if precision == "single" else np.float64
-    with np.errstate(over="ignore", under="ignore"):
-        rounded = np.abs(arr.astype(dtype).astype(float))
-    bad = ~np.isfinite(arr) | ~(rounded <= limit) | ((arr != 0) & (rounded < tiny))
-    if np.any(bad):
-        index = tuple(int(i) for i in np.argwhere(bad)[0])
-        value = float(arr[index]) if arr.ndim else float(arr)
-        where = f" at {list(index)}" if index else ""
-        raise ConfigError(
-            name,
-            f"{what} finite, within +-{limit:g} and, unless zero, at least {tiny:.3g} in magnitude "
-            f"({precision} precision; docs/implement.md, Safety layer){where}",
-            value,
-        )
