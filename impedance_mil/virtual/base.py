@@ -24,13 +24,15 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 from ..errors import ConfigError, IncompleteModelError
-from ..systems import TransferFunction
 from .stepping import run_program
+
+if TYPE_CHECKING:  # the linear part's type: a system is built and listed without the LTI core
+    from ..systems import TransferFunction
 
 
 @dataclass(frozen=True)

@@ -17,19 +17,24 @@ values read as attributes (``vs.k_s``, ``vs.W``); the object is immutable
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ConfigError
 from ..lazy import LazyModule
-from ..systems import TransferFunction
 from ..units import G0
 from .base import LinearPart, VirtualSystem, VSOutput, VSResponse, inputs_of, nonnegative, state_of
 from .definition import VSDefinition, python_eval
 from .expressions import CONSTANTS
 from .structure import linear_matrices, linear_structure
 
+if TYPE_CHECKING:
+    from ..systems import TransferFunction
+
+#: The transfer functions of the linear part (and through them the LTI core), imported on first
+#: use: listing and describing the presets does not need them (issue 16, start-up).
+systems = LazyModule("impedance_mil.systems")
 #: The generated kernels and the loops over a history (numba), imported on first use: building,
 #: listing and describing a system does not compile or load them (issue 16, start-up).
 codegen = LazyModule("impedance_mil.virtual.codegen")
@@ -210,7 +215,7 @@ class DefinedVS(VirtualSystem):
         A, B, C, D = linear_matrices(self.definition, {**self._values, **self._derived})
         omega = max(float(np.max(np.abs(np.linalg.eigvals(A)))), 1e-12) if A.size else 1e-12
         tfs = [
-            _drop_residue(TransferFunction.from_ss(A, B[:, j], C, D[j]), omega).minreal()
+            _drop_residue(systems.TransferFunction.from_ss(A, B[:, j], C, D[j]), omega).minreal()
             for j in range(B.shape[1])
         ]
         has_fh = len(linear_structure(self.definition).inputs) > 2
@@ -263,4 +268,4 @@ def _drop_residue(tf: TransferFunction, omega: float, rtol: float = RESIDUE_RTOL
     powers = np.arange(num.size - 1, -1, -1)
     terms = np.abs(num) * omega**powers
     num[terms < rtol * terms.max()] = 0.0
-    return TransferFunction(num, tf.den)
+    return systems.TransferFunction(num, tf.den)
