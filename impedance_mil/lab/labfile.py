@@ -42,7 +42,6 @@ from ..errors import ConfigError
 from ..implement.io_units import IOUnits
 from ..lazy import LazyModule
 from ..plant import TableParameters
-from ..plant.lti_table import LTITable
 from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
 from ..plant.table_dynamics import TABLE_DYNAMICS_SECTIONS, parse_table_dynamics
@@ -53,16 +52,20 @@ from .calibration_record import CalibrationRecord, parse_calibration
 from .dynamics_file import DYNAMICS_PARSERS, DynamicsSetup, parse_dynamics
 from .lab_units import LAB_UNITS as LAB_UNITS  # re-exported: the units of to_dict()
 from .labsensors import Converter, SensorSetup, channel_dynamics, sensor_setup
-from .lti_lab import lti_lab_limits, lti_sensor_ranges
-from .lti_plant import lti_limits, virtual_table_for
 from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
 
-if TYPE_CHECKING:  # the readers of the LTI kinds are imported on first use (below)
+if TYPE_CHECKING:  # the LTI table's modules are imported on first use (below)
     from ..plant.table_files import TableDefinition
 
-#: The table-file reader of either kind, imported when a lab's table is an LTI table file: the
-#: readers of its kinds are not needed for a physical table (``imil lab show``: issue 16, start-up).
+# A lab of a physical table does not import the LTI table's model, its readers and its lab
+# (the LTI core, ~0.1 MB of source: ``imil lab show``, issue 16, start-up).  A table is a
+# TableDefinition: an LTI table is the one that is not TableParameters.
+#: The table-file reader of either kind, imported when a lab's table is an LTI table file.
 table_files = LazyModule("impedance_mil.plant.table_files")
+#: An LTI table's lab: its limits and generic sensor ranges (:mod:`impedance_mil.lab.lti_lab`).
+lti_lab = LazyModule("impedance_mil.lab.lti_lab")
+#: An LTI table as the virtual lab runs it (:mod:`impedance_mil.lab.lti_plant`).
+lti_plant = LazyModule("impedance_mil.lab.lti_plant")
 
 #: Name of the shipped lab of the report (its sections live in data/report/config.toml).
 REPORT_LAB = "report"
@@ -242,7 +245,7 @@ class LabSetup:
         ConfigError
             The table is an LTI one (named ``table.file``).
         """
-        if isinstance(self.table, LTITable):
+        if not isinstance(self.table, TableParameters):
             raise ConfigError("table.file", "a physical table file: an LTI table ([model]) has no parameters")
         return self.table
 
@@ -262,12 +265,14 @@ class LabSetup:
 
     def to_dict(self) -> dict[str, Any]:
         """The effective setup with the source of each value (``imil lab show --json``)."""
-        if isinstance(self.table, LTITable):
-            limits = lti_limits(self.limits, virtual_table_for(self.table)).values._asdict()  # hf_* below
-            command = None  # no valve
-        else:
+        if isinstance(self.table, TableParameters):
             limits = self.limits.kernel_values(NonlinearTable.from_linear(self.table))._asdict()
             command = self.table.valve_command_limit
+        else:  # an LTI table
+            limits = lti_plant.lti_limits(
+                self.limits, lti_plant.virtual_table_for(self.table)
+            ).values._asdict()
+            command = None  # no valve
         return {
             "lab": self.name,
             "file": str(self.path),
@@ -394,9 +399,9 @@ def load_lab(
     sources: dict[str, str] = {}
     params = _table(data.get("table"), base, overrides or {}, where, sources, accept_lti)
     controller = _controller(data.get("controller"), params, where, sources)
-    if isinstance(params, LTITable):
+    if not isinstance(params, TableParameters):  # an LTI table
         params = replace(params, loop_time=controller.loop_time)
-        limits = lti_lab_limits(
+        limits = lti_lab.lti_lab_limits(
             _mapping(data.get("limits"), "limits", where), params, where, sources, LIMIT_FIELDS
         )
     else:
@@ -405,8 +410,8 @@ def load_lab(
         params = params.replace(valve_command_limit=command)
     params = _dynamics(data.get("dynamics"), params, where, sources)
     generic = None
-    if isinstance(params, LTITable) and data.get("sensors") is None:
-        generic = lti_sensor_ranges(params, where)
+    if not isinstance(params, TableParameters) and data.get("sensors") is None:
+        generic = lti_lab.lti_sensor_ranges(params, where)
     sensors = sensor_setup(data.get("sensors"), params, controller.adc, where, generic, base)
     sources["sensors"] = sensors.source
     specimen = _specimen(data.get("specimen"), base, where, sources)
@@ -414,7 +419,7 @@ def load_lab(
     uncertainty = _uncertainty(data.get("uncertainty"), params, where)
     calibration = parse_calibration(data.get("calibration"), where)
     dynamics = parse_dynamics(
-        data.get("dynamics"), None if isinstance(params, LTITable) else params.mass, where
+        data.get("dynamics"), params.mass if isinstance(params, TableParameters) else None, where
     )
     if "dynamics" in data:  # no section adds nothing: not a default a run must declare
         sources["dynamics"] = "file"
@@ -438,7 +443,7 @@ def _uncertainty(section: Any, params: TableDefinition, where: str) -> Uncertain
     """The ``[uncertainty]`` ranges (None without the section); an LTI table has no parameters to vary."""
     if section is None:
         return None
-    if isinstance(params, LTITable):
+    if not isinstance(params, TableParameters):
         raise ConfigError(
             f"{where}uncertainty",
             "no [uncertainty] with an LTI table (it has no physical parameters to vary)",
@@ -459,7 +464,7 @@ def _dynamics(section: Any, params: TableDefinition, where: str, sources: dict) 
     own = {k: v for k, v in dynamics.items() if k in TABLE_DYNAMICS_SECTIONS}
     if not own:
         return params
-    if isinstance(params, LTITable):
+    if not isinstance(params, TableParameters):
         raise ConfigError(
             f"{where}dynamics.{next(iter(own))}",
             "no table dynamics with an LTI table (its model is the table)",
@@ -546,7 +551,9 @@ def _controller(section: Any, table: TableDefinition, where: str, sources: dict)
         raise ConfigError(f"{where}controller.adc_bits", "a whole number of bits from 2 to 32", bits)
     adc = Converter(bits, given.get("adc_range", 10.0))
     # an LTI table has no valve: its command is a position, and the DAC range is the converters'
-    dac = given.get("dac_range", adc.range_v if isinstance(table, LTITable) else table.valve_command_limit)
+    dac = given.get(
+        "dac_range", table.valve_command_limit if isinstance(table, TableParameters) else adc.range_v
+    )
     io_units = IOUnits.parse(text.get("io_units", "us"), f"{where}controller.io_units")
     return ControllerSetup(loop, round(loops), precision, feedback, substeps, adc, dac, io_units)
 

@@ -48,16 +48,18 @@ import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 from ..config import quantity
 from ..errors import ConfigError
 from ..plant import TableParameters
-from ..plant.lti_table import LTITable
 from ..plausibility import PlausibilityWarning
 from ..specimens.sensors import FILTER_ORDERS, Sensor, SensorSuite
 from .labnoise import channel_delay, channel_spectrum
 from .setup import DEFAULT_NOISE_V, default_sensors
+
+if TYPE_CHECKING:  # a table is a TableDefinition: an LTI table is the one that is not TableParameters
+    from ..plant.lti_table import LTITable
 
 #: What a clipped channel does: ``warn`` (the run goes on, the summary records it) or ``fail``.
 CLIPPING_POLICIES = ("warn", "fail")
@@ -148,7 +150,7 @@ def sensor_setup(
     ``base``: the folder a channel's noise PSD file is read from (the lab file's).
     """
     if section is None:
-        if generic is None and isinstance(table, LTITable):
+        if generic is None and not isinstance(table, TableParameters):  # an LTI table
             raise ConfigError(
                 f"{where}sensors", "a [sensors] section or the LTI table's generic channel ranges"
             )
