@@ -25,11 +25,18 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..config import quantity
 from ..errors import ConfigError
-from ..specimens.mounting import LoadCells, Mounting, PlatenMode
+from ..lazy import LazyModule
+
+if TYPE_CHECKING:
+    from ..specimens.mounting import LoadCells, Mounting, PlatenMode
+
+#: The mounting's models, imported when a lab has ``[dynamics.platen]`` or ``[dynamics.load_cells]``:
+#: reading a lab without them (``imil lab show``) does not need them (issue 16, start-up).
+specimens_mounting = LazyModule("impedance_mil.specimens.mounting")
 
 #: Unit of a mass key (pint): a mass given as ``"200 lb"`` or ``"90 kg"`` converts exactly.
 MASS_UNIT = "force_pound * second ** 2 / inch"
@@ -98,7 +105,7 @@ def parse_platen(raw: Any, table_mass: float, key: str) -> PlatenMode:
         raise ConfigError(f"{key}.frequency", "the platen mode's frequency (e.g. '150 Hz')")
     f = quantity(f"{key}.frequency", section["frequency"], "hertz", "positive")
     zeta = quantity(f"{key}.damping", section.get("damping", 0.0), "dimensionless", "nonnegative")
-    return PlatenMode(mass, f, zeta)
+    return specimens_mounting.PlatenMode(mass, f, zeta)
 
 
 def parse_load_cells(raw: Any, key: str) -> LoadCells:
@@ -124,7 +131,7 @@ def parse_load_cells(raw: Any, key: str) -> LoadCells:
                 raw_damping,
             ) from None
     base = quantity(f"{key}.base_mass", section.get("base_mass", 0.0), MASS_UNIT, "nonnegative")
-    return LoadCells(k, c, base, is_ratio)
+    return specimens_mounting.LoadCells(k, c, base, is_ratio)
 
 
 #: The sub-tables of ``[dynamics]`` this module parses: name -> parser(raw, table mass, key).
@@ -172,7 +179,7 @@ def parse_dynamics(section: Any, table_mass: float | None, where: str = "") -> D
     others = {
         name: _table(section[name], f"{where}dynamics.{name}") for name in PASSED_THROUGH if name in section
     }
-    mounting = Mounting(parsed.get("platen"), parsed.get("load_cells")) if parsed else None
+    mounting = specimens_mounting.Mounting(parsed.get("platen"), parsed.get("load_cells")) if parsed else None
     return DynamicsSetup(mounting, others)
 
 

@@ -46,7 +46,6 @@ from ..plant.nonlinear import NonlinearTable
 from ..plant.parameters import merge_overrides, ratings_from_report, table_mapping
 from ..plant.table_dynamics import TABLE_DYNAMICS_SECTIONS, parse_table_dynamics
 from ..plant.table_kind import is_lti_table_file
-from ..plant.uncertainty import UncertaintySet, parse_uncertainty
 from ..report_config import REPORT_CONFIG_PATH, SUBSTEP_POLICIES
 from .calibration_record import CalibrationRecord, parse_calibration
 from .dynamics_file import DYNAMICS_PARSERS, DynamicsSetup, parse_dynamics
@@ -54,8 +53,9 @@ from .lab_units import LAB_UNITS as LAB_UNITS  # re-exported: the units of to_di
 from .labsensors import Converter, SensorSetup, channel_dynamics, sensor_setup
 from .setup import MAX_OUTPUT_DELAY, SafetyLimits, accelerometer_noise
 
-if TYPE_CHECKING:  # the LTI table's modules are imported on first use (below)
+if TYPE_CHECKING:  # the LTI table's modules and the uncertainty ranges are imported on first use (below)
     from ..plant.table_files import TableDefinition
+    from ..plant.uncertainty import UncertaintySet
 
 # A lab of a physical table does not import the LTI table's model, its readers and its lab
 # (the LTI core, ~0.1 MB of source: ``imil lab show``, issue 16, start-up).  A table is a
@@ -66,6 +66,8 @@ table_files = LazyModule("impedance_mil.plant.table_files")
 lti_lab = LazyModule("impedance_mil.lab.lti_lab")
 #: An LTI table as the virtual lab runs it (:mod:`impedance_mil.lab.lti_plant`).
 lti_plant = LazyModule("impedance_mil.lab.lti_plant")
+#: The ``[uncertainty]`` ranges, read when a lab has the section (:mod:`impedance_mil.plant.uncertainty`).
+uncertainty_ranges = LazyModule("impedance_mil.plant.uncertainty")
 
 #: Name of the shipped lab of the report (its sections live in data/report/config.toml).
 REPORT_LAB = "report"
@@ -448,7 +450,7 @@ def _uncertainty(section: Any, params: TableDefinition, where: str) -> Uncertain
             f"{where}uncertainty",
             "no [uncertainty] with an LTI table (it has no physical parameters to vary)",
         )
-    return parse_uncertainty(section, params, where)
+    return uncertainty_ranges.parse_uncertainty(section, params, where)
 
 
 def _dynamics(section: Any, params: TableDefinition, where: str, sources: dict) -> TableDefinition:
