@@ -34,7 +34,7 @@ from typing import Any
 
 from .config import unit_registry
 from .errors import ConfigError
-from .unit_names import quick_short_name
+from .unit_names import SI_DISPLAY_BY_EXPRESSION, quick_short_name
 
 
 class UnitSystem(StrEnum):
@@ -115,10 +115,23 @@ def display_unit(unit: str, system: UnitSystem) -> DisplayUnit:
     """The unit values of the internal ``unit`` (a pint expression) are shown in.
 
     ``"g0"`` (accelerations in g), ``"s"``, ``"Hz"``, ``"deg"`` and every unit
-    without in, lbf or psi read the same in both systems.
+    without in, lbf or psi read the same in both systems.  The SI units of
+    :data:`~impedance_mil.unit_names.SI_DISPLAY_BY_EXPRESSION` are shown without
+    pint, the same as :func:`si_display_by_pint` shows them.
     """
+    known = SI_DISPLAY_BY_EXPRESSION.get(unit) if system is UnitSystem.SI else None
+    if known is not None:
+        return DisplayUnit(*known)
     name = short_name(unit)
     if system is UnitSystem.US or name == "":
+        return DisplayUnit(name, 1.0)
+    return si_display_by_pint(unit)
+
+
+def si_display_by_pint(unit: str) -> DisplayUnit:
+    """The SI display unit of the internal ``unit`` (a pint expression), found by pint (see the module)."""
+    name = short_name(unit)
+    if name == "":
         return DisplayUnit(name, 1.0)
     target = _SI_WHOLE.get(name) or _factor_by_factor(unit)
     if target == name:  # no in, lbf or psi in it (and logarithmic units such as dB convert no further)

@@ -109,6 +109,52 @@ SHORT_NAMES_BY_EXPRESSION: MappingProxyType[str, str] = MappingProxyType(
     }
 )
 
+#: How :func:`impedance_mil.display.display_unit` shows in SI each unit the configuration
+#: commands print (``imil lab show|table info --units si``): ``(name, factor)``, by the unit
+#: as the package spells it (the SI name follows the order its factors are written in, so the
+#: key is the spelling itself, not the unit).  Each entry is pint's, bit for bit
+#: (tests/test_unit_names.py); a unit spelled otherwise is shown by pint, as before.
+SI_DISPLAY_BY_EXPRESSION: MappingProxyType[str, tuple[str, float]] = MappingProxyType(
+    {
+        "1 / second": ("1/s", 1.0),
+        "Hz": ("Hz", 1.0),
+        "V": ("V", 1.0),
+        "V/s": ("V/s", 1.0),
+        "force_pound": ("kN", 0.0044482216152605),
+        "force_pound * second / inch": ("kN*s/m", 0.17512683524647643),
+        "force_pound * second**2 / inch": ("kg", 175.12683524647645),
+        "force_pound / inch": ("kN/m", 0.17512683524647643),
+        "hertz": ("Hz", 1.0),
+        "in": ("mm", 25.4),
+        "in/s": ("mm/s", 25.4),
+        "in/s**2": ("m/s**2", 0.0254),
+        "inch": ("mm", 25.4),
+        "inch / second ** 2": ("m/s**2", 0.0254),
+        "inch**2": ("cm**2", 6.4516),
+        "inch**3 / second": ("L/s", 0.016387063999999993),
+        "inch**3 / second / milliampere": ("mm**3/s/mA", 16387.063999999995),
+        "inch**3 / second / psi": ("mm**3/s/MPa", 2376742.690600152),
+        "lbf": ("kN", 0.0044482216152605),
+        "lbf*s**2/in": ("kg", 175.12683524647645),
+        "lbf*s/in": ("kN*s/m", 0.17512683524647643),
+        "lbf/in": ("kN/m", 0.17512683524647643),
+        "lbf/psi": ("kN/MPa", 0.64516),
+        "mA": ("mA", 1.0),
+        "mA/s": ("mA/s", 1.0),
+        "milliampere": ("mA", 1.0),
+        "milliampere / volt": ("mA/V", 1.0),
+        "psi": ("MPa", 0.0068947572931683625),
+        "psi / second / milliampere": ("MPa/s/mA", 0.0068947572931683625),
+        "rad/s": ("rad/s", 1.0),
+        "radian / second": ("rad/s", 1.0),
+        "s": ("s", 1.0),
+        "second": ("s", 1.0),
+        "volt": ("V", 1.0),
+        "volt / inch": ("V/mm", 0.03937007874015749),
+        "volt / psi": ("V/MPa", 145.0377377302092),
+    }
+)
+
 # Python's tokenizer, which pint's parser uses, splits a whole number with a leading zero
 # ("007" reads as 0 and 7, "in**02" as in**0 and 2): such texts are left to pint.
 _TERM = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:(?:\*\*|\^)\s*([1-9][0-9]*))?\s*")

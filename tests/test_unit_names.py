@@ -18,7 +18,7 @@ import pytest
 import impedance_mil
 from impedance_mil import config
 from impedance_mil.config import quantity, unit_registry
-from impedance_mil.display import short_name
+from impedance_mil.display import UnitSystem, display_unit, short_name, si_display_by_pint
 from impedance_mil.errors import ConfigError
 from impedance_mil.lab.labfile import load_lab
 from impedance_mil.plant.parameters import FIELDS
@@ -26,6 +26,7 @@ from impedance_mil.plant.table_files import is_lti_table_file, read_table_file
 from impedance_mil.unit_names import (
     SCALED,
     SHORT_NAMES_BY_EXPRESSION,
+    SI_DISPLAY_BY_EXPRESSION,
     SYMBOLS,
     parse_units,
     quick_quantity,
@@ -84,6 +85,24 @@ def test_each_short_name_is_pints_in_any_order(expression):
         written = "*".join(order) + "".join("/" + d for d in reversed(denominator))
         assert f"{ureg.parse_units(written):~C}" == expected
         assert quick_short_name(written) == expected
+
+
+@pytest.mark.parametrize("expression", list(SI_DISPLAY_BY_EXPRESSION))
+def test_each_si_display_unit_is_pints(expression):
+    # Name and factor as pint finds them for this spelling (the factor bit for bit: a value
+    # shown is the same float with or without pint).
+    name, factor = SI_DISPLAY_BY_EXPRESSION[expression]
+    by_pint = si_display_by_pint(expression)
+    assert (name, factor) == (by_pint.name, by_pint.factor)
+    assert math.copysign(1.0, factor) == 1.0 and display_unit(expression, UnitSystem.SI) == by_pint
+
+
+def test_an_si_display_unit_not_listed_is_pints():
+    # The SI name follows the order the factors are written in: another spelling is pint's.
+    assert "in**3/mA/s" not in SI_DISPLAY_BY_EXPRESSION
+    assert display_unit("in**3/mA/s", UnitSystem.SI).name == "mm**3/mA/s"
+    assert display_unit("inch**3 / second / milliampere", UnitSystem.SI).name == "mm**3/s/mA"
+    assert display_unit("kilonewton / meter", UnitSystem.SI) == si_display_by_pint("kilonewton / meter")
 
 
 def test_short_name_of_a_unit_not_listed_is_pints():
