@@ -12,17 +12,18 @@ from typing import TYPE_CHECKING, Any
 import typer
 from rich.console import Console
 
+from .. import plant
 from ..config import parse_overrides
 from ..display import UnitSystem, human_name, unit_system
 from ..errors import ConfigError
 from ..fileio import json_safe
 from ..lazy import LazyModule
-from ..plant import TableParameters, default_table_path
 from ..plant.table_kind import is_lti_table_file
 from ..report.documents import TF_COEFFICIENTS, express
 
 if TYPE_CHECKING:  # the readers are imported on first use (below): `imil table info` needs none
     from ..lab.labfile import LabSetup
+    from ..plant import TableParameters
     from ..plant.table_files import TableDefinition
 
 #: The lab-file reader, imported when a command first reads a lab (issue 16, start-up).
@@ -119,7 +120,7 @@ def table_parameters(
     """
     if lab is not None or table is not None:
         return labfile.load_lab(lab, table=table, overrides=parse_overrides(sets)).physical_table()
-    return TableParameters.from_toml(table or default_table_path(), parse_overrides(sets))
+    return plant.TableParameters.from_toml(table or plant.default_table_path(), parse_overrides(sets))
 
 
 def lab_setup(table: Path | None, sets: list[str] | None = None, lab: str | None = None) -> LabSetup:

@@ -17,7 +17,6 @@ import typer
 from ..config import parse_overrides
 from ..display import UnitSystem, display_unit, format_value
 from ..lazy import lazy_attributes
-from ..plant import TableParameters
 from ..units import G0
 from ..virtual import presets
 from ..virtual.files import VSSpec, resolve
@@ -78,11 +77,6 @@ _SHORT_UNITS = {
     "second / inch": "s/in",
     "dimensionless": "-",
 }
-
-
-def report_loop_time() -> float:
-    """Loop time [s] of the report's table (Table 4.1, via the report's setup)."""
-    return TableParameters.report_default().loop_time
 
 
 def _spec(vs: str, sets: list[str] | None) -> VSSpec:

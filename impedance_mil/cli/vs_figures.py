@@ -12,6 +12,7 @@ import typer
 from ..config import parse_overrides, quantity
 from ..display import format_value
 from ..lab.vs_loops import harmonic_input, recorded_input, vs_loops
+from ..plant import TableParameters
 from ..report.motion_plots import check_figure_path
 from ..report.vs_plots import plot_loops, save_figure
 from ..report_config import report_config
@@ -20,7 +21,12 @@ from ..virtual.files import resolve
 from .common import UnitsOpt, console, output_units, print_json
 from .motion import UNITS_HELP, load_motion
 from .runopts import err_console
-from .vs import SET_HELP, VS_HELP, report_loop_time
+from .vs import SET_HELP, VS_HELP
+
+
+def report_loop_time() -> float:
+    """Loop time [s] of the report's table (Table 4.1, via the report's setup)."""
+    return TableParameters.report_default().loop_time
 
 
 def loops(

@@ -41,8 +41,10 @@ from ..display import UnitSystem, display_unit, key_suffix, short_name
 from ..fileio import json_safe
 from ..lab.lab_units import LAB_OBJECTS, LAB_UNITS
 from ..lazy import LazyModule
-from ..plant.parameters import ALTERNATIVES, FIELDS
 
+#: The table file's keys (``plant.parameters.FIELDS``, ``ALTERNATIVES``), imported when a key of a
+#: document is first looked up in the registries (listing the VS presets needs none).
+table_keys = LazyModule("impedance_mil.plant.parameters")
 #: The VS types' key registry (``virtual.files.UNITS``), imported when a key of a document is
 #: in no other registry (see the module).
 vs_files = LazyModule("impedance_mil.virtual.files")
@@ -159,8 +161,8 @@ _DIMENSIONLESS_RE = re.compile(
 @cache
 def own_key_units() -> dict[str, str]:
     """Internal unit of every key of the registries other than the VS types' (table file, motion, VS loop)."""
-    units = {key: field.unit for key, field in FIELDS.items()}
-    units.update({key: field.unit for key, (_, field) in ALTERNATIVES.items()})
+    units = {key: field.unit for key, field in table_keys.FIELDS.items()}
+    units.update({key: field.unit for key, (_, field) in table_keys.ALTERNATIVES.items()})
     units.update({"pga": "g0", "pga_original": "g0", "fc": "hertz"})
     units.update(_VS_LOOP_UNITS)
     return units

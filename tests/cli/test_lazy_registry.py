@@ -132,17 +132,21 @@ TABLE_NOT_NEEDED = (
     "impedance_mil.systems",
     "impedance_mil.lab.labfile",
 )
+#: `imil vs list` reads the VS types: neither the table's model nor its parameters.
+VS_NOT_NEEDED = (
+    "impedance_mil.plant.linear",
+    "impedance_mil.plant.table_files",
+    "impedance_mil.systems",
+    "impedance_mil.plant.parameters",
+    "impedance_mil.lab.labfile",
+)
 NOT_NEEDED = {
     ("lab", "show"): LAB_NOT_NEEDED,
     ("lab", "show", "--json"): LAB_NOT_NEEDED,
     ("table", "info"): TABLE_NOT_NEEDED,
     ("table", "info", "--json"): TABLE_NOT_NEEDED,
-    ("vs", "list"): (
-        "impedance_mil.plant.linear",
-        "impedance_mil.plant.table_files",
-        "impedance_mil.systems",
-    ),
-    ("vs", "list", "--json"): ("impedance_mil.plant.linear", "impedance_mil.plant.table_files"),
+    ("vs", "list"): VS_NOT_NEEDED,
+    ("vs", "list", "--json"): VS_NOT_NEEDED,
 }
 
 
