@@ -57,7 +57,8 @@ from ..lab.first_run import COMPILING_NOTICE, compile_progress, kernels_need_com
 from ..lab.pretest import Pretest
 from ..lab.results import RUN_FILE_SUFFIXES
 from ..lab.robust import require_uncertainty, test_robustness
-from ..lab.runfile import MODEL_LOOP, trip_text, write_run_file
+from ..lab.run_stream import RunFileStream
+from ..lab.runfile import MODEL_LOOP, finish_run_file, trip_text, write_run_file
 from ..report.runpage import write_run_page
 from ..report_config import report_config
 from ..virtual import presets
@@ -208,10 +209,13 @@ def perform(
     gm = test.motion.motion
     loops = int(round(gm.duration / test.table.loop_time))
     start = time.perf_counter()
-    with activity(
-        not quiet, f"{test.kind}: designing and running {gm.duration:.2f} s (about {loops} loops)"
-    ) as step:
-        result = test.run()
+    with (
+        activity(
+            not quiet, f"{test.kind}: designing and running {gm.duration:.2f} s (about {loops} loops)"
+        ) as step,
+        RunFileStream(out) as stream,  # the records are written as the run goes; in place at finish
+    ):
+        result = test.run(sink=stream)
         outcome.elapsed_s = time.perf_counter() - start
         outcome.result = result
         doc = test.summary(result, outcome.pre, tuple(outcome.warnings))
@@ -219,7 +223,7 @@ def perform(
             doc["pretest"]["robust"] = outcome.robust.to_dict()
         arrays = test.arrays(result)
         step(f"writing {out}")
-        outcome.written.paths.append(write_run_file(result.run, out, doc, arrays))
+        outcome.written.paths.append(finish_run_file(stream, result.run, doc, arrays))
         if report is not None:
             step(f"writing {report}")
             outcome.written.paths.append(
