@@ -31,6 +31,14 @@
 #error "tick_floor.c must not be compiled with -ffast-math (it reproduces numba bit for bit)"
 #endif
 
+/* The numba loop inlines every stage (inline="always"); so does this file, where the
+ * compiler lets it (gcc and clang; another C99 compiler takes the hint or not). */
+#if defined(__GNUC__)
+#define TICK_INLINE static inline __attribute__((always_inline))
+#else
+#define TICK_INLINE static inline
+#endif
+
 #define MAX_Y 64     /* table (6) + specimen states */
 #define MAX_CH 16    /* sensor channels */
 #define MAX_CTRL 16  /* controller states per channel */
@@ -135,26 +143,26 @@ int64_t tick_floor_case_size(void) { return (int64_t)sizeof(tick_floor_case); }
 int64_t tick_floor_held_size(void) { return (int64_t)sizeof(held_t); }
 
 /* Python's min(max(v, lo), hi) on floats (finite operands). */
-static double clip(double v, double lo, double hi)
+TICK_INLINE double clip(double v, double lo, double hi)
 {
     double m = v >= lo ? v : lo;
     return m <= hi ? m : hi;
 }
 
 /* ------------------------------------------------------------ table (nonlinear_kernels) */
-static double orifice(double dp, double plam)
+TICK_INLINE double orifice(double dp, double plam)
 {
     return dp / sqrt(sqrt(dp * dp + plam * plam));
 }
 
-static double smooth_saturation(double u, double limit)
+TICK_INLINE double smooth_saturation(double u, double limit)
 {
     double r = u / limit;
     double r2 = r * r;
     return u / sqrt(sqrt(1.0 + r2 * r2));
 }
 
-static double acceleration(const double *pa, double x, double v, double p1, double p2, double w_state,
+TICK_INLINE double acceleration(const double *pa, double x, double v, double p1, double p2, double w_state,
                            double w_feed)
 {
     double force = pa[PA_AREA] * (p1 - p2) + w_state;
@@ -177,7 +185,7 @@ static double acceleration(const double *pa, double x, double v, double p1, doub
     return force / (pa[PA_MASS] - w_feed);
 }
 
-static void port_flows(const double *pa, double s, double p1, double p2, double *q1, double *q2)
+TICK_INLINE void port_flows(const double *pa, double s, double p1, double p2, double *q1, double *q2)
 {
     double smax = pa[PA_SMAX];
     double opening = clip(s, -smax, smax);
@@ -192,7 +200,7 @@ static void port_flows(const double *pa, double s, double p1, double p2, double 
 }
 
 /* table_rates: z [in/s^2] returned, dP1/dt, dP2/dt [psi/s], spool acceleration [mA/s^2]. */
-static double table_rates(const double *pa, double x, double v, double p1, double p2, double s, double sd,
+TICK_INLINE double table_rates(const double *pa, double x, double v, double p1, double p2, double s, double sd,
                           double current, double w_state, double w_feed, double *dp1, double *dp2,
                           double *sdd)
 {
@@ -230,7 +238,7 @@ static double table_rates(const double *pa, double x, double v, double p1, doubl
 }
 
 /* ------------------------------------------------------------ plant step (stepping.advance_bank) */
-static double bank_inner_stage(const double *ys, double *tmp, double *acc, const double *Cs,
+TICK_INLINE double bank_inner_stage(const double *ys, double *tmp, double *acc, const double *Cs,
                                const double *osc_k, const double *osc_c, int64_t n, double z, double c)
 {
     double ws = 0.0;
@@ -250,7 +258,7 @@ static double bank_inner_stage(const double *ys, double *tmp, double *acc, const
     return ws;
 }
 
-static void advance_bank(const tick_floor_case *k, double *y, double current)
+TICK_INLINE void advance_bank(const tick_floor_case *k, double *y, double current)
 {
     const double *pa = k->pa, *Cs = k->spec_C, *osc_k = k->osc_k, *osc_c = k->osc_c;
     const double Ds = k->spec_D, dt = pa[PA_LOOP];
@@ -322,7 +330,7 @@ static void advance_bank(const tick_floor_case *k, double *y, double current)
 }
 
 /* ------------------------------------------------------------ sensing (sensor_kernels, kernels) */
-static double read_channel(double value, double draw, double scale, double offset, double noise_rms,
+TICK_INLINE double read_channel(double value, double draw, double scale, double offset, double noise_rms,
                            double lsb, double v_low, double v_high)
 {
     double volts = (value - offset) / scale + noise_rms * draw;
@@ -336,7 +344,7 @@ typedef struct {
 } measurements_t;
 
 /* plant_sense: the measurements; true z and w into *z_true, *w_true. */
-static measurements_t plant_sense(const tick_floor_case *k, const double *y, const float *noise_row,
+TICK_INLINE measurements_t plant_sense(const tick_floor_case *k, const double *y, const float *noise_row,
                                   double *readings, double time_s, double *z_true, double *w_true)
 {
     const double *pa = k->pa, *ys = y + N_TABLE_STATES;
@@ -381,7 +389,7 @@ static measurements_t plant_sense(const tick_floor_case *k, const double *y, con
 }
 
 /* ------------------------------------------------------------ interlocks (kernels.check_limits) */
-static int64_t hf_oscillation_check(const tick_floor_case *k, held_t *h, double z, double *value)
+TICK_INLINE int64_t hf_oscillation_check(const tick_floor_case *k, held_t *h, double z, double *value)
 {
     double y, rms;
     if (k->hf_window_loops == 0) {
@@ -413,7 +421,7 @@ static int64_t hf_oscillation_check(const tick_floor_case *k, held_t *h, double 
     return TRIP_NONE;
 }
 
-static int64_t check_limits(const tick_floor_case *k, const double *y, int64_t n_y, const measurements_t *m,
+TICK_INLINE int64_t check_limits(const tick_floor_case *k, const double *y, int64_t n_y, const measurements_t *m,
                             held_t *h, double *value)
 {
     const double x = y[IX_X], v = y[IX_V], force = k->pa[PA_AREA] * m->dp;
@@ -446,7 +454,7 @@ static int64_t check_limits(const tick_floor_case *k, const double *y, int64_t n
 /* ------------------------------------------------------------ controller and VS (float32) */
 /* The generated SD tick (virtual/codegen.py tick32): z_vs from the state at the start of
  * the loop, then one RK3 step; float arithmetic, double literals promote what they enter. */
-static float vs_tick_sd(const float *p, float *x, float a_g, float w, float dt)
+TICK_INLINE float vs_tick_sd(const float *p, float *x, float a_g, float w, float dt)
 {
     const float m_vs = p[0], k_s = p[1], c = p[2];
     float s_x = x[0], s_v = x[1];
@@ -473,7 +481,7 @@ static float vs_tick_sd(const float *p, float *x, float a_g, float w, float dt)
 }
 
 /* implement/kernels.py channel_output: D v + C x. */
-static float channel_output(const float *m, int64_t n, const float *x, float v)
+TICK_INLINE float channel_output(const float *m, int64_t n, const float *x, float v)
 {
     float y = m[n * (n + 1) + n] * v;
     int64_t j;
@@ -484,7 +492,7 @@ static float channel_output(const float *m, int64_t n, const float *x, float v)
 }
 
 /* implement/kernels.py channel_update: x <- x + ((A - I) x + B v), Kahan-compensated if asked. */
-static void channel_update(const float *m, int64_t n, float *x, float *c, float v, int64_t compensated)
+TICK_INLINE void channel_update(const float *m, int64_t n, float *x, float *c, float v, int64_t compensated)
 {
     float t[MAX_CTRL];
     int64_t i, j;
