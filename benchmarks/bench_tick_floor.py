@@ -97,7 +97,10 @@ def _motion(case, seconds: float | None) -> np.ndarray:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
-        "--seconds", type=float, default=None, help="simulated seconds (the record repeated); default the record"
+        "--seconds",
+        type=float,
+        default=None,
+        help="simulated seconds (the record repeated); default the record",
     )
     parser.add_argument("--repeats", type=int, default=7, help="timed calls of each loop (best is printed)")
     args = parser.parse_args()

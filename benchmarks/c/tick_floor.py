@@ -26,6 +26,7 @@ import numpy as np
 
 from impedance_mil.design import design_controller, table_model, virtual_model
 from impedance_mil.implement import MILRuntime, discretize
+from impedance_mil.implement.vs_tick import vs_tick_function
 from impedance_mil.lab import loop as lab_loop
 from impedance_mil.lab.setup import (
     SafetyLimits,
@@ -266,7 +267,8 @@ def _check_supported(args: LoopArgs) -> None:
         reasons.append("sensors without anti-alias filters or delays")
     if control.controller.m_z.dtype != np.float32:
         reasons.append("a single-precision controller")
-    if control.vs.params.size != 3 or control.vs.x.size != 2:
+    # The tick of every SD VS is one compiled function (its definition's), so identity says "SD".
+    if args.vs_tick is not vs_tick_function(presets.get("SD2"), np.float32):
         reasons.append("a spring-damper (SD) VS")
     if plant.y.size > _MAX_Y or sens.gain.size > _MAX_CH or plant.output_line.size > _MAX_CH:
         reasons.append(f"at most {_MAX_Y - 6} specimen states, {_MAX_CH} channels and loops of delay")

@@ -55,7 +55,9 @@ def test_c_tick_records_every_channel_as_numba_to_the_bit(case, c_loop, numba_ru
     for name in floor.CHANNELS:
         a, b = c_run.channels[name], numba_run.channels[name]
         differ = np.nonzero(a != b)[0]
-        assert differ.size == 0, f"{name} differs first at loop {differ[0]}: C {a[differ[0]]!r}, numba {b[differ[0]]!r}"
+        assert differ.size == 0, (
+            f"{name} differs first at loop {differ[0]}: C {a[differ[0]]!r}, numba {b[differ[0]]!r}"
+        )
     np.testing.assert_array_equal(c_run.vs_states, numba_run.vs_states)
     # The C loop wrote the end state back as run_loop does: the next loop would go on from it.
     assert np.all(args.plant.y != 0.0)
