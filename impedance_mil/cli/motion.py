@@ -26,7 +26,7 @@ from ..config import quantity
 from ..display import UnitSystem, display_unit, format_value
 from ..errors import ConfigError
 from ..lab.pretest import check_dict
-from ..report.motion_plots import check_figure_path, plot_histories, plot_spectra, save_figure
+from ..lazy import LazyModule
 from ..signals import (
     BUILTIN_MOTIONS,
     DEFAULT_PERIODS,
@@ -50,6 +50,10 @@ from .common import (
     table_parameters,
     weight_option,
 )
+
+#: The figures (``--plot``), imported when asked for: matplotlib takes 0.3 s, which every command
+#: importing this module's help texts paid (``imil simulate``; issue 16).
+motion_plots = LazyModule("impedance_mil.report.motion_plots")
 
 app = typer.Typer(
     help="Ground motions: info, response spectrum, table feasibility check.", no_args_is_help=True
@@ -150,11 +154,13 @@ def spectrum(
     """Pseudo-acceleration response spectrum, exact for piecewise-linear input (report Figure 8.1)."""
     shown = output_units(units)
     if output is not None:
-        check_figure_path(output)
+        motion_plots.check_figure_path(output)
     motion = load_motion(source, motion_units, time_scale, pga)
     spec = response_spectrum(motion.accel, motion.time_step, parse_periods(periods), damping)
     if output is not None:
-        save_figure(plot_spectra([spec], [motion.name], title=f"{motion.name}"), output)
+        motion_plots.save_figure(
+            motion_plots.plot_spectra([spec], [motion.name], title=f"{motion.name}"), output
+        )
     if as_json:
         print_json(
             {
@@ -291,9 +297,9 @@ def plot(
 ) -> None:
     """Plot displacement, velocity and acceleration histories (baseline-corrected)."""
     shown = output_units(units)
-    check_figure_path(output)
+    motion_plots.check_figure_path(output)
     motion = load_motion(source, motion_units, time_scale, pga)
-    save_figure(plot_histories(motion, units=shown), output)
+    motion_plots.save_figure(motion_plots.plot_histories(motion, units=shown), output)
     console.print(f"wrote {output}")
 
 

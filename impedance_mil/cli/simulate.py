@@ -33,11 +33,10 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
-from ..campaign.engine import ProgressEvent
-from ..campaign.robust import run_robust_campaign
 from ..config import parse_overrides
 from ..design.robust import RobustMargins
 from ..display import UnitSystem, display_unit, format_value
@@ -57,8 +56,9 @@ from ..lab.first_run import COMPILING_NOTICE, compile_progress, kernels_need_com
 from ..lab.pretest import Pretest
 from ..lab.results import RUN_FILE_SUFFIXES
 from ..lab.robust import require_uncertainty, test_robustness
-from ..lab.runfile import MODEL_LOOP, trip_text, write_run_file
-from ..report.runpage import write_run_page
+from ..lab.run_stream import RunFileStream
+from ..lab.runfile import MODEL_LOOP, finish_run_file, trip_text, write_run_file
+from ..lazy import LazyModule
 from ..report_config import report_config
 from ..virtual import presets
 from .common import UnitsOpt, console, output_units, positive_numbers, print_json
@@ -77,6 +77,15 @@ from .runopts import (
     refuse_or_warn,
     report_defaults_line,
 )
+
+if TYPE_CHECKING:
+    from ..campaign.engine import ProgressEvent
+
+#: The robust campaign (``simulate --robust``), imported when used: the campaign engine brings
+#: its executors and summaries, which a plain run does not need (issue 16).
+robust_campaigns = LazyModule("impedance_mil.campaign.robust")
+#: The HTML page of a run (``--report``), imported when asked for: it brings matplotlib (0.3 s).
+run_pages = LazyModule("impedance_mil.report.runpage")
 
 _REPORT = report_config()
 _GM = _REPORT.default_motion
@@ -208,10 +217,13 @@ def perform(
     gm = test.motion.motion
     loops = int(round(gm.duration / test.table.loop_time))
     start = time.perf_counter()
-    with activity(
-        not quiet, f"{test.kind}: designing and running {gm.duration:.2f} s (about {loops} loops)"
-    ) as step:
-        result = test.run()
+    with (
+        activity(
+            not quiet, f"{test.kind}: designing and running {gm.duration:.2f} s (about {loops} loops)"
+        ) as step,
+        RunFileStream(out) as stream,  # the records are written as the run goes; in place at finish
+    ):
+        result = test.run(sink=stream)
         outcome.elapsed_s = time.perf_counter() - start
         outcome.result = result
         doc = test.summary(result, outcome.pre, tuple(outcome.warnings))
@@ -219,11 +231,11 @@ def perform(
             doc["pretest"]["robust"] = outcome.robust.to_dict()
         arrays = test.arrays(result)
         step(f"writing {out}")
-        outcome.written.paths.append(write_run_file(result.run, out, doc, arrays))
+        outcome.written.paths.append(finish_run_file(stream, result.run, doc, arrays))
         if report is not None:
             step(f"writing {report}")
             outcome.written.paths.append(
-                write_run_page(result.run, doc, report, loop=arrays.get(MODEL_LOOP), units=units)
+                run_pages.write_run_page(result.run, doc, report, loop=arrays.get(MODEL_LOOP), units=units)
             )
     reason = trip_text(result.run, units)
     outcome.document = {
@@ -447,8 +459,8 @@ def run_robust(
     require_uncertainty(test.lab.uncertainty, "--robust")
     out = output_path("-o", output, overwrite, RUN_FILE_SUFFIXES)
     outcome = Outcome(test)
-    notice_compiling()
-    check(outcome, force=force, required=parse_required(require))
+    with notice_compiling():
+        check(outcome, force=force, required=parse_required(require))
     warn(outcome.warnings)
 
     def progress(event: ProgressEvent) -> None:
@@ -459,7 +471,7 @@ def run_robust(
 
     try:
         with tempfile.TemporaryDirectory(prefix="imil-robust-") as folder:
-            campaign = run_robust_campaign(
+            campaign = robust_campaigns.run_robust_campaign(
                 chosen, test, n, test.lab.seed, Path(folder), out, on_progress=progress
             )
     except KeyboardInterrupt:

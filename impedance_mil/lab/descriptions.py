@@ -40,6 +40,7 @@ from ..signals import GroundMotion
 from ..signals.multisine import report_multisine
 from ..specimens import FluidVessel
 from ..virtual.files import VSSpec
+from .chunks import RecordSink
 from .clipping import clipped_channels
 from .design_file import table_differences
 from .experiments import (
@@ -306,13 +307,17 @@ class TrackingTest:
             output_delay=self.lab.output_delay,
         )
 
-    def run(self) -> ControlledRun:
-        """Design the tracking controller and run the loop (``lab.experiments.run_tracking``)."""
+    def run(self, sink: RecordSink | None = None) -> ControlledRun:
+        """Design the tracking controller and run the loop (``lab.experiments.run_tracking``).
+
+        ``sink`` receives the records as the run goes (the run file, :class:`~impedance_mil.lab.run_stream.RunFileStream`).
+        """
         return run_tracking(
             self.table,
             self.motion.motion,
             compensate=self.controller.feedback.compensates,
             design=self.design,
+            sink=sink,
             **self._common(),
         )
 
@@ -386,9 +391,11 @@ class MilTest(TrackingTest):
     def vs_name(self) -> str | None:
         return self.vs_spec.name
 
-    def run(self) -> ControlledRun:
-        """Design the standardized controller and run the MIL loop (``lab.experiments.run_mil``)."""
-        return run_mil(self.table, self.vs, self.motion.motion, design=self.design, **self._common())
+    def run(self, sink: RecordSink | None = None) -> ControlledRun:
+        """Design the standardized controller and run the MIL loop (``lab.experiments.run_mil``; ``sink`` as for tracking)."""
+        return run_mil(
+            self.table, self.vs, self.motion.motion, design=self.design, sink=sink, **self._common()
+        )
 
     @functools.cached_property
     def design(self) -> ControllerDesign:

@@ -42,6 +42,7 @@ from ..report_config import report_config
 from ..signals import GroundMotion
 from ..signals.frf import estimate_frf
 from ..signals.multisine import Multisine, design_multisine
+from .chunks import RecordSink
 from .feedback import Feedback
 from .identification import TableIdentification, identify_table, model_response
 from .loop import simulate
@@ -370,6 +371,7 @@ def _controlled(
     vs,
     name,
     output_delay=1,
+    sink=None,
 ) -> ControlledRun:
     gm = motion.resampled(params.loop_time)
     vt = _table(params, table, None)
@@ -386,6 +388,7 @@ def _controlled(
         substeps=substeps,
         limits=limits,
         output_delay=output_delay,
+        sink=sink,
         config={
             "experiment": name,
             "motion": _motion_info(gm),
@@ -416,6 +419,7 @@ def run_tracking(
     limits=None,
     design: ControllerDesign | None = None,
     output_delay: int = 1,
+    sink: RecordSink | None = None,
 ) -> ControlledRun:
     """Acceleration tracking, ``z_vs = a_g`` (Section 8, Eq 1-6).
 
@@ -433,11 +437,12 @@ def run_tracking(
         Lab channel of w (Section 8.3.2; default the report's, ``[controller] feedback``).
     compensate : bool
         Include ``u_w`` (``False``: the third column of Figures 8.8-8.9).
-    table, precision, leak_hz, sensors, seed, substeps, limits, output_delay
+    table, precision, leak_hz, sensors, seed, substeps, limits, output_delay, sink
         Virtual table override, controller arithmetic (default the report's,
         single), drift leak [Hz], and :func:`~impedance_mil.lab.loop.simulate`
         options (``substeps`` default the report's policy; ``output_delay`` in
-        loops, default 1: the design's linear model assumes one loop).
+        loops, default 1: the design's linear model assumes one loop; ``sink``
+        receives the records as the run goes, e.g. the run file).
     design : ControllerDesign, optional
         The design to run (default :func:`tracking_design` at ``fc_hz``; a
         caller that checked its verdicts before the run passes it here).
@@ -463,6 +468,7 @@ def run_tracking(
         vs=None,
         name="tracking",
         output_delay=output_delay,
+        sink=sink,
     )
 
 
@@ -483,6 +489,7 @@ def run_mil(
     limits=None,
     design: ControllerDesign | None = None,
     output_delay: int = 1,
+    sink: RecordSink | None = None,
 ) -> ControlledRun:
     """MIL run imitating the virtual system ``vs`` (Section 9; standardized controller).
 
@@ -517,4 +524,5 @@ def run_mil(
         vs=vs,
         name="mil",
         output_delay=output_delay,
+        sink=sink,
     )

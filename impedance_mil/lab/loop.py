@@ -20,6 +20,7 @@ tracks ``a_g`` (Section 8, ``z_vs = a_g``), a runtime with a VS is a MIL run
 
 from __future__ import annotations
 
+import functools
 from dataclasses import asdict, replace
 
 import numpy as np
@@ -28,14 +29,15 @@ from ..errors import ConfigError
 from ..implement.runtime import ControllerArrays
 from ..implement.vs_tick import VSArrays, no_vs_tick
 from ..plant.nonlinear import N_TABLE_STATES
+from .chunks import CHUNK_LOOPS, RecordSink, run_in_chunks
 from .lti_plant import LTIVirtualTable, check_feedback, lti_limits, virtual_table_for
 from .plant_interface import PlantInterface, VirtualLTITable, VirtualTable, lti_plant, specimen_arrays
 from .results import RunResult
 from .setup import (
+    NoiseDraws,
     SafetyLimits,
     accelerometer_noise,
     default_sensors,
-    draw_noise,
     output_line,
     sensor_arrays,
 )
@@ -164,8 +166,14 @@ def simulate(
     quantize: bool = True,
     output_delay: int = 1,
     config: dict | None = None,
+    sink: RecordSink | None = None,
+    chunk_loops: int = CHUNK_LOOPS,
 ) -> RunResult:
     """Run the compiled sampled-data loop.
+
+    The loop runs in chunks (:func:`~impedance_mil.lab.chunks.run_in_chunks`,
+    the same run bit for bit): the sensor noise of the next chunk is drawn,
+    and the records of the previous one go to ``sink``, while it runs.
 
     Parameters
     ----------
@@ -209,6 +217,12 @@ def simulate(
         ``config["output_delay"]``.
     config : dict, optional
         Extra entries for the stored configuration (e.g. the motion's name).
+    sink : RecordSink, optional
+        Told of the records chunk by chunk as the run goes (the run file,
+        :class:`~impedance_mil.lab.run_stream.RunFileStream`); a user-defined VS
+        (run through the plant interface) tells it nothing.
+    chunk_loops : int
+        Loops per chunk (the run is the same for any value).
 
     Returns
     -------
@@ -261,18 +275,23 @@ def simulate(
         )
         return replace(result, config=cfg)
     n = ag.size
-    noise = draw_noise(np.random.default_rng(seed), sensors, n, table.loop_time)
+    noise = NoiseDraws.allocate(np.random.default_rng(seed), sensors, n, table.loop_time)
     ctrl, vs_tick, vs = _controller_arrays(runtime)
     control = LoopControl(mode, _FEEDBACK[feedback], ag, cmd, float(table.loop_time), ctrl, vs)
     log = Records.allocate(n, vs.x.size)
     # The compiled loop allocates nothing (it runs without reference counting): every
     # structure is made here and outlives the call.
     if lti_lim is not None:
-        plant_lti = lti_plant(table, specimen, sens, lti_lim.values, nsub, noise, output_delay)
-        done, cause, value = run_lti_loop(plant_lti, control, vs_tick, log)
+        plant_lti = lti_plant(table, specimen, sens, lti_lim.values, nsub, noise.values, output_delay)
+        run_chunk = functools.partial(run_lti_loop, plant_lti, control, vs_tick, log)
     else:
-        plant = _virtual_plant(table, specimen, sens, limits, nsub, noise, line, accelerometer_noise(sensors))
-        done, cause, value = run_loop(plant, control, vs_tick, log)
+        plant = _virtual_plant(
+            table, specimen, sens, limits, nsub, noise.values, line, accelerometer_noise(sensors)
+        )
+        run_chunk = functools.partial(run_loop, plant, control, vs_tick, log)
+    records, states = log.up_to(n)
+    finished = None if sink is None else lambda start, stop: sink.receive(records, states, start, stop)
+    done, cause, value = run_in_chunks(run_chunk, n, prepare=noise.fill, finished=finished, size=chunk_loops)
     channels, vs_states = log.up_to(done)
     return RunResult(
         channels=channels,
@@ -305,7 +324,7 @@ def simulate_interface(
     plant.reset()
     control = LoopControl(mode, _FEEDBACK[feedback], ag, cmd, float(plant.loop_time), runtime, None)
     log = Records.allocate(ag.size, 0 if runtime is None else len(runtime.x_vs))
-    done, cause, value = run_ticks(plant, control, None, log)
+    done, cause, value = run_ticks(plant, control, None, log, 0, ag.size)
     channels, vs_states = log.up_to(done)
     return RunResult(
         channels={name: arr.copy() for name, arr in channels.items()},

@@ -159,7 +159,8 @@ def basemat_check(
         stroke_in=min(limits.stroke_in, interlocks.stroke),
         velocity_in_s=min(limits.velocity_in_s, interlocks.velocity),
     )
-    full = check_motion(basemat, lab, baseline_correct=False)
+    # stroke and velocity only: the flow check of 1.2 million samples (600 s at 500 us) took 0.05 s
+    full = check_motion(basemat, lab, baseline_correct=False, flow=False)
     checks = [full.check("stroke"), full.check("velocity")]
     return MotionCheck(all(c.ok for c in checks), checks, None, full.max_pga_g)
 

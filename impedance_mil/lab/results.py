@@ -131,10 +131,7 @@ def save_run(
     ConfigError
         An extra attribute or group would replace one of the run file's own (a ValueError).
     """
-    extra_attrs, extra_groups = dict(extra_attrs or {}), dict(extra_groups or {})
-    clash = sorted(set(extra_attrs) & set(RUN_ATTRS)) + sorted(set(extra_groups) & set(RUN_GROUPS))
-    if clash:
-        raise ConfigError(f"extra entry {clash[0]!r}", "a name other than the run file's own entries")
+    extra_attrs, extra_groups = checked_extras(extra_attrs, extra_groups)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     # The checksum is computed beside the write (hashlib releases the GIL): on a 600 s run
@@ -145,21 +142,67 @@ def save_run(
         h5py.File(tmp, "w") as f,
     ):
         digest = digests.submit(data_digest, result.channels, result.vs_states)
-        f.attrs["format"] = FILE_FORMAT
-        f.attrs["software_version"] = result.software_version
-        f.attrs["mode"] = result.mode
-        f.attrs["loop_time_s"] = result.loop_time
-        f.attrs["config_json"] = json.dumps(json_safe(result.config), default=repr)
-        f.attrs["trip_json"] = json.dumps(json_safe(_trip_record(result.trip)))
-        grp = f.create_group("channels")
-        for name, arr in result.channels.items():
-            grp.create_dataset(name, data=arr, **CHANNEL_STORAGE)
-        ds = f.create_dataset("vs_states", data=result.vs_states)
-        ds.attrs["names"] = json.dumps(list(result.vs_state_names))
-        f.attrs["data_sha256"] = digest.result()
-        f.attrs.update(extra_attrs)
-        _write_groups(f, extra_groups)
+        write_records(f, result.channels, result.vs_states)
+        write_run_attrs(f, result, digest.result(), extra_attrs, extra_groups)
     return path
+
+
+def checked_extras(
+    extra_attrs: Mapping[str, Any] | None, extra_groups: Mapping[str, Mapping[str, Any]] | None
+) -> tuple[dict[str, Any], dict[str, Mapping[str, Any]]]:
+    """``save_run``'s extras as dicts; ConfigError (a ValueError) if one would replace a run file's own entry."""
+    extra_attrs, extra_groups = dict(extra_attrs or {}), dict(extra_groups or {})
+    clash = sorted(set(extra_attrs) & set(RUN_ATTRS)) + sorted(set(extra_groups) & set(RUN_GROUPS))
+    if clash:
+        raise ConfigError(f"extra entry {clash[0]!r}", "a name other than the run file's own entries")
+    return extra_attrs, extra_groups
+
+
+def write_records(
+    f: h5py.File,
+    channels: Mapping[str, np.ndarray] | None,
+    vs_states: np.ndarray,
+    *,
+    shape_only: bool = False,
+) -> dict[str, h5py.Dataset]:
+    """Create the run file's records (:data:`RUN_GROUPS`): the channels, then the VS states.
+
+    ``shape_only``: the datasets are made at their full size and left for the
+    caller to fill (a run file written as the run goes,
+    :class:`impedance_mil.lab.run_stream.RunFileStream`).  Returns them by name.
+    """
+    grp = f.create_group("channels")
+    made = {}
+    for name, arr in (channels or {}).items():
+        if shape_only:
+            made[name] = grp.create_dataset(name, shape=arr.shape, dtype=arr.dtype, **CHANNEL_STORAGE)
+        else:
+            made[name] = grp.create_dataset(name, data=arr, **CHANNEL_STORAGE)
+    if shape_only:
+        made["vs_states"] = f.create_dataset("vs_states", shape=vs_states.shape, dtype=vs_states.dtype)
+    else:
+        made["vs_states"] = f.create_dataset("vs_states", data=vs_states)
+    return made
+
+
+def write_run_attrs(
+    f: h5py.File,
+    result: RunResult,
+    digest: str,
+    extra_attrs: Mapping[str, Any],
+    extra_groups: Mapping[str, Mapping[str, Any]],
+) -> None:
+    """The run file's attributes (``digest``: :func:`data_digest` of the records), then the extras."""
+    f.attrs["format"] = FILE_FORMAT
+    f.attrs["software_version"] = result.software_version
+    f.attrs["mode"] = result.mode
+    f.attrs["loop_time_s"] = result.loop_time
+    f.attrs["config_json"] = json.dumps(json_safe(result.config), default=repr)
+    f.attrs["trip_json"] = json.dumps(json_safe(_trip_record(result.trip)))
+    f["vs_states"].attrs["names"] = json.dumps(list(result.vs_state_names))
+    f.attrs["data_sha256"] = digest
+    f.attrs.update(extra_attrs)
+    _write_groups(f, extra_groups)
 
 
 def data_digest(channels: Mapping[str, np.ndarray], vs_states: np.ndarray) -> str:

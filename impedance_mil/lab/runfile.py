@@ -36,6 +36,7 @@ from ..fileio import json_safe
 from ..units import in_s2_to_g
 from .metrics import RunMetrics, evaluate_run, vs_force_history
 from .results import RunResult, attr_json, save_run
+from .run_stream import RunFileStream
 
 #: Root attribute of a run file holding the producer's summary (JSON).
 SUMMARY_ATTR = "imil_summary_json"
@@ -168,10 +169,27 @@ def write_run_file(
     null); ``arrays`` (``{name: {dataset: array}}``) are subgroups of
     :data:`SUMMARY_GROUP`.
     """
+    attrs, groups = summary_extras(summary, arrays)
+    return save_run(run, path, extra_attrs=attrs, extra_groups=groups)
+
+
+def finish_run_file(
+    stream: RunFileStream,
+    run: RunResult,
+    summary: Mapping[str, Any],
+    arrays: Mapping[str, Mapping[str, Any]] | None = None,
+) -> Path:
+    """:func:`write_run_file` for a run file written as the run went (``stream`` received its records)."""
+    attrs, groups = summary_extras(summary, arrays)
+    return stream.finish(run, extra_attrs=attrs, extra_groups=groups)
+
+
+def summary_extras(
+    summary: Mapping[str, Any], arrays: Mapping[str, Mapping[str, Any]] | None
+) -> tuple[dict[str, str], dict[str, dict] | None]:
+    """The summary as the root attribute :data:`SUMMARY_ATTR`, the arrays under :data:`SUMMARY_GROUP`."""
     groups = {SUMMARY_GROUP: dict(arrays)} if arrays else None
-    return save_run(
-        run, path, extra_attrs={SUMMARY_ATTR: json.dumps(json_safe(summary))}, extra_groups=groups
-    )
+    return {SUMMARY_ATTR: json.dumps(json_safe(summary))}, groups
 
 
 def read_summary(path: str | Path) -> tuple[dict | None, dict]:

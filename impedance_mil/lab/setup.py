@@ -87,16 +87,53 @@ def draw_noise(
     by its :class:`ColouredNoise` rows 0 ... n_loops - 1 (``loop_time_s`` [s]
     needed); row by row, the plant interface does so itself
     (:meth:`ColouredNoise.row`).  Without spectra the draws are as they were.
+    The block is :class:`NoiseDraws` filled at once.
     """
-    shape = (suite.n_channels,) if n_loops is None else (n_loops, suite.n_channels)
-    draws = rng.standard_normal(shape, dtype=np.float32)
     if n_loops is None:
-        return draws
-    colour = coloured_noise(rng, suite, loop_time_s)
-    if colour is not None:
-        rows = np.arange(n_loops) % colour.block.shape[0]
-        draws[:, colour.channel] = colour.block[rows]
-    return draws
+        return rng.standard_normal((suite.n_channels,), dtype=np.float32)
+    draws = NoiseDraws.allocate(rng, suite, n_loops, loop_time_s)
+    draws.fill(0, n_loops)
+    return draws.values
+
+
+@dataclass(frozen=True, eq=False)
+class NoiseDraws:
+    """The noise block of a run, filled chunk by chunk with the numbers of :func:`draw_noise`.
+
+    The white rows are drawn in loop order (numpy's generator gives the same
+    numbers for a block and for its rows in order); the coloured columns
+    come from their :class:`ColouredNoise`, drawn at :meth:`allocate` from a
+    child stream that does not depend on the white draws.
+
+    Attributes
+    ----------
+    rng : numpy.random.Generator
+        The run's generator (its white draws).
+    values : ndarray (n_loops, n_channels), float32
+        The block (rows filled by :meth:`fill`; the others uninitialized).
+    colour : ColouredNoise or None
+        The channels with a spectrum.
+    """
+
+    rng: np.random.Generator
+    values: np.ndarray
+    colour: ColouredNoise | None
+
+    @classmethod
+    def allocate(
+        cls, rng: np.random.Generator, suite: SensorSuite, n_loops: int, loop_time_s: float | None
+    ) -> NoiseDraws:
+        """An unfilled block for ``n_loops`` loops of ``loop_time_s`` [s] (needed with a noise spectrum)."""
+        colour = coloured_noise(rng, suite, loop_time_s)
+        return cls(rng, np.empty((n_loops, suite.n_channels), np.float32), colour)
+
+    def fill(self, start: int, stop: int) -> None:
+        """Draw rows ``start ... stop - 1`` (after rows ``0 ... start - 1``: in loop order)."""
+        rows = self.values[start:stop]
+        self.rng.standard_normal(dtype=np.float32, out=rows)
+        if self.colour is not None:
+            period = self.colour.block.shape[0]
+            rows[:, self.colour.channel] = self.colour.block[np.arange(start, stop) % period]
 
 
 @dataclass(frozen=True, eq=False)

@@ -48,19 +48,22 @@ from .trips import TripCause
 
 
 def sequence(stages):
-    """The loop over every sample of ``control.a_g``, with the stages of the module ``stages``.
+    """The loop over samples ``start ... stop - 1`` of ``control.a_g``, with the stages of the module ``stages``.
 
-    Returns ``run(plant, control, vs_tick, log) -> (loops completed, TripCause,
-    value)``: loop k reads the plant (sense, safety: a trip ends the run before
-    anything of loop k is recorded), records the VS state at the start of the
-    loop, computes the command (open loop: ``control.command[k]``; tracking:
+    Returns ``run(plant, control, vs_tick, log, start, stop) -> (loops
+    completed, TripCause, value)``: every state lives in the structures, so a
+    run in chunks (``0 ... k``, then ``k ... n``) is the same run as one call,
+    bit for bit (:func:`impedance_mil.lab.chunks.run_in_chunks`).
+
+    Loop k reads the plant (sense, safety: a trip ends the run before anything
+    of loop k is recorded), records the VS state at the start of the loop,
+    computes the command (open loop: ``control.command[k]``; tracking:
     ``z_vs = a_g``; MIL: the VS tick then the controller), sends it through the
     hydraulic loop, records the loop and lets the plant advance by one loop time.
     """
 
-    def run(plant, control, vs_tick, log):
-        n = control.a_g.shape[0]
-        for k in range(n):
+    def run(plant, control, vs_tick, log, start, stop):
+        for k in range(start, stop):
             # 1. sense, 2. safety
             m, cause, value = stages.read(plant, k)
             if cause != TripCause.NONE:
@@ -81,13 +84,13 @@ def sequence(stages):
             stages.record(log, k, m, stages.truth(plant), a_g, z_vs, u, u_w, w)
             # 5. advance
             stages.advance(plant)
-        return n, TripCause.NONE, 0.0
+        return stop, TripCause.NONE, 0.0
 
     return run
 
 
 #: The loop in Python: ``run_ticks(plant: PlantInterface, control: LoopControl (controller: the
-#: MILRuntime or None), None, log: Records) -> (loops completed, TripCause, value)``.
+#: MILRuntime or None), None, log: Records, start, stop) -> (loops completed, TripCause, value)``.
 run_ticks = sequence(interface_stages)
 
 # ``pipeline_class=LoopCompiler``: numba's pipeline with a faster IR inliner, the same code
@@ -98,14 +101,15 @@ run_ticks = sequence(interface_stages)
 # decrement; perf showed those atomics at about 45 % of the loop's time.  The
 # loop allocates nothing (its structures are made by the caller, who also keeps
 # every array alive for the call), so it needs no NRT.
+# ``nogil=True``: a run in chunks (lab/chunks.py) draws the next chunk's noise and writes the
+# previous chunk's records to the run file while the loop runs.
+_LOOP_JIT = dict(cache=True, error_model="numpy", _nrt=False, nogil=True, pipeline_class=LoopCompiler)
 #: The loop compiled: ``run_loop(plant: VirtualPlant, control: LoopControl, vs_tick: VSTick,
-#: log: Records) -> (loops completed, TripCause, value)``; one compiled variant per
+#: log: Records, start, stop) -> (loops completed, TripCause, value)``; one compiled variant per
 #: controller precision (float32, float64), for every VS and specimen.
-run_loop = njit(cache=True, error_model="numpy", _nrt=False, pipeline_class=LoopCompiler)(sequence(kernels))
+run_loop = njit(**_LOOP_JIT)(sequence(kernels))
 
-#: The loop compiled on an LTI table: ``run_lti_loop(plant: LTIPlant, control, vs_tick, log)``,
+#: The loop compiled on an LTI table: ``run_lti_loop(plant: LTIPlant, control, vs_tick, log, start, stop)``,
 #: the same sequence with the stages of :mod:`impedance_mil.lab.lti_kernels` (a loop of its
 #: own: the physical table's loop above is untouched by it).
-run_lti_loop = njit(cache=True, error_model="numpy", _nrt=False, pipeline_class=LoopCompiler)(
-    sequence(lti_kernels)
-)
+run_lti_loop = njit(**_LOOP_JIT)(sequence(lti_kernels))

@@ -308,7 +308,11 @@ def required_rated_flow(velocity: np.ndarray, force: np.ndarray, limits: TableLi
 
 
 def check_motion(
-    motion: GroundMotion, limits: TableLimits, baseline_order: int = 3, baseline_correct: bool = True
+    motion: GroundMotion,
+    limits: TableLimits,
+    baseline_order: int = 3,
+    baseline_correct: bool = True,
+    flow: bool = True,
 ) -> MotionCheck:
     """Check a ground motion against the table's stroke, velocity, force and flow limits.
 
@@ -328,6 +332,10 @@ def check_motion(
         False: check the motion as given, integrated from rest without
         correction (how the virtual lab's loop integrates a target it
         follows, e.g. a VS basemat acceleration).
+    flow : bool
+        False: no flow check, even with the hydraulic data (a caller that
+        reads only the kinematic checks of a long record: the flow is the
+        costliest, ten passes over it).
 
     Returns
     -------
@@ -351,7 +359,7 @@ def check_motion(
         _peak("velocity", np.abs(vel), limits.velocity_in_s, "in/s", dt),
         _peak("force", np.abs(force), limits.force_lbf, "lbf", dt),
     ]
-    if limits.has_hydraulics:
+    if flow and limits.has_hydraulics:
         checks.append(_peak("flow", required_rated_flow(vel, force, limits), limits.rated_flow, "in^3/s", dt))
     ok = all(c.ok for c in checks)
     needed = [math.sqrt(checks[0].ratio), checks[1].ratio] + ([checks[3].ratio] if len(checks) > 3 else [])

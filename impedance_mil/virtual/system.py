@@ -173,8 +173,7 @@ class DefinedVS(VirtualSystem):
         kern = codegen.compiled(self.definition)
         rec = np.empty((a.size, kern.n_outputs))
         work = np.empty(4 * max(self.n_states, 1))
-        kernels.simulate_records(
-            (kern.outputs, kern.tick64),
+        kern.simulate_records(
             self._params,
             x,
             a,
@@ -202,7 +201,7 @@ class DefinedVS(VirtualSystem):
         x = np.ascontiguousarray(states, dtype=float).reshape(-1, self.n_states)
         kern = codegen.compiled(self.definition)
         rec = np.empty((x.shape[0], kern.n_outputs))
-        kernels.outputs_along((kern.outputs,), self._params, x, np.empty(kern.n_outputs), rec)
+        kern.outputs_along(self._params, x, np.empty(kern.n_outputs), rec)
         return rec[:, kernels.OUT_FORCE].copy()
 
     def linear_part(self) -> LinearPart:

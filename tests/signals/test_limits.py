@@ -142,3 +142,12 @@ def test_invalid_limits(kwargs, key):
         TableLimits(**args)
     with pytest.raises(ConfigError, match="specimen_weight"):
         TableLimits.report_default(specimen_weight=-5.0)
+
+
+def test_without_the_flow_check_the_other_checks_are_unchanged():
+    # flow=False (the pre-test's basemat check) drops the flow check only: same peaks, same times
+    gm = builtin_motion("elcentro").time_scaled(2.0).scaled_to_pga(0.8)
+    limits = TableLimits.report_default(specimen_weight=1200.0)
+    full, kinematic = check_motion(gm, limits), check_motion(gm, limits, flow=False)
+    assert [c.name for c in full.checks] == ["stroke", "velocity", "force", "flow"]
+    assert kinematic.checks == full.checks[:3]

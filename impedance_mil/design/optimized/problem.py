@@ -21,6 +21,7 @@ own ``H_vw``), and the coefficients by their column sizes.
 
 from __future__ import annotations
 
+import importlib.util
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -28,15 +29,15 @@ import numpy as np
 
 from ...bounds import MAX_GRID_PER_DECADE, check_count
 from ...errors import ConfigError, MissingDependencyError
+from ...lazy import LazyModule
 from ...units import TWO_PI
 from .basis import PoleBasis
 from .models import LoopModel
 
-cp: Any
-try:  # the optional extra: pip install 'impedance-mil[optimize]'
-    import cvxpy as cp
-except ImportError:  # pragma: no cover - exercised by test_missing_solver via monkeypatch
-    cp = None
+#: cvxpy (the optional extra: pip install 'impedance-mil[optimize]'), None when not installed;
+#: imported on first use (0.17 s, which every ``imil simulate`` paid through the lab's choices,
+#: issue 16).  test_missing_solver sets it to None.
+cp: Any = LazyModule("cvxpy") if importlib.util.find_spec("cvxpy") else None
 
 #: Bound on the scaled coefficients: keeps the problem bounded where the grid alone would let
 #: coefficients of cancelling terms grow without limit (the scaled filter design's are below 10).
