@@ -46,15 +46,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ConfigError
 from ..lazy import LazyModule, lazy_attributes
-from ..lti import StateSpace
 from ..units import TWO_PI
 from .physics import ValveDynamics
 from .table_dynamics import TableDynamics
+
+if TYPE_CHECKING:
+    from ..lti import StateSpace
+
+#: The LTI core, read by :attr:`LinearizedTable.system` only: a lab's limits need the table's
+#: capacity, not its linear model (``imil lab show``: issue 16, start-up).
+lti = LazyModule("impedance_mil.lti")
 
 # --------------------------------------------------------------------------- layout
 #: Table state layout (indices into the state vector).
@@ -196,7 +203,7 @@ class LinearizedTable:
     def system(self) -> StateSpace:
         """The same model as one :class:`~impedance_mil.lti.StateSpace`, inputs ``("u", "w")``."""
         names = tuple(self.C)
-        return StateSpace(
+        return lti.StateSpace(
             self.A,
             np.column_stack([self.B_u, self.B_w]),
             np.vstack([self.C[k][0] for k in names]),

@@ -37,14 +37,21 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ConfigError
-from ..lazy import lazy_attributes
-from ..lti import StateSpace
+from ..lazy import LazyModule, lazy_attributes
 from ..units import G0, TWO_PI
 from .sensor_noise import NoiseSpectrum
+
+if TYPE_CHECKING:
+    from ..lti import StateSpace
+
+#: The LTI core, read by :meth:`Sensor.anti_alias_filter` only: a channel without a filter, and a
+#: lab that only lists its channels (``imil lab show``), do not need it (issue 16, start-up).
+lti = LazyModule("impedance_mil.lti")
 
 #: Resolution of the RMC75E analog inputs [bits] (Section 7.2.2).
 ADC_BITS = 16
@@ -181,8 +188,8 @@ class Sensor:
             return None
         wc = TWO_PI * self.bandwidth_hz
         if self.filter_order == 1:
-            return StateSpace([[-wc]], [[wc]], [[1.0]], 0.0, states=("y",))
-        return StateSpace(
+            return lti.StateSpace([[-wc]], [[wc]], [[1.0]], 0.0, states=("y",))
+        return lti.StateSpace(
             [[0.0, wc], [-wc, -math.sqrt(2.0) * wc]], [[0.0], [wc]], [[1.0, 0.0]], 0.0, states=("y", "dy/wc")
         )
 

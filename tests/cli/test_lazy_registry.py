@@ -121,6 +121,7 @@ LAB_NOT_NEEDED = (
     "impedance_mil.plant.uncertainty",
     "impedance_mil.specimens.mounting",
     "impedance_mil.signals.limits",
+    "impedance_mil.lti",
 )
 #: `imil table info` reads a table's parameters: the linear model's commands live in cli/table_model.py.
 TABLE_NOT_NEEDED = (
