@@ -31,7 +31,7 @@ from .trips import TripCause
 CHUNK_LOOPS = 1 << 16
 
 #: ``run_chunk(start, stop) -> (loops completed, TripCause, value)``: the loop from ``start``.
-RunChunk = Callable[[int, int], tuple[int, int, float]]
+RunChunk = Callable[[int, int], tuple[int, TripCause, float]]
 
 
 class RecordSink(Protocol):
@@ -84,11 +84,11 @@ def run_in_chunks(
             if following is not None and prepare is not None:
                 prepare(*following)
             done, cause, value = pending.result()
-            tripped = TripCause(cause) != TripCause.NONE
+            tripped = cause != TripCause.NONE
             if following is not None and not tripped:
                 pending = worker.submit(run_chunk, *following)
             if finished is not None:
                 finished(start, done)
             if tripped:
-                return done, TripCause(cause), value
+                return done, cause, value
     return n, TripCause.NONE, 0.0
