@@ -84,7 +84,9 @@ _JIT = dict(cache=True, nogil=True, error_model="numpy")
 #: (Taking the kernels as first-class arguments instead, one loop for every type, made numba key its
 #: cache index by dispatcher types, which it cannot pickle again once a process has dropped an
 #: earlier type's dispatcher; that loop was therefore compiled afresh in every process.)
-#: No explicit signatures: the inputs may be read-only arrays (a motion's samples).
+#: No explicit signatures: the inputs may be read-only arrays (a motion's samples).  ``rec`` is
+#: output-major, ``rec[j, k]``: each output's history is a contiguous row the caller hands on
+#: as it is (the sample-major layout needed a copy of each column: 48 MB for 600 s at 500 us).
 HISTORY_LOOPS = """
 
 @njit(**_JIT)
@@ -93,17 +95,17 @@ def simulate_records(p, x, a_g, w, dt, work, out, rec):
     for k in range(a_g.shape[0]):
         outputs(p, x, a_g[k], w[k], out)
         for j in range(out.shape[0]):
-            rec[k, j] = out[j]
+            rec[j, k] = out[j]
         tick64(p, x, a_g[k], w[k], dt, work)
 
 
 @njit(**_JIT)
 def outputs_along(p, states, out, rec):
-    # rec[k] = outputs(states[k]) with a_g = w = 0.
+    # rec[:, k] = outputs(states[k]) with a_g = w = 0.
     for k in range(states.shape[0]):
         outputs(p, states[k], 0.0, 0.0, out)
         for j in range(out.shape[0]):
-            rec[k, j] = out[j]
+            rec[j, k] = out[j]
 """
 
 

@@ -18,10 +18,11 @@ Kernel signatures (float64; ``p`` the parameter vector of
   start of the loop, then one RK3 step of ``x`` in place (``work``: 4 n
   floats), in float64 (``tick64``) or float32 (``tick32``);
 - ``simulate_records(p, x, a_g, w, dt, work, out, rec)``: one RK3 step per
-  sample of the histories ``a_g``, ``w``; ``rec[k]`` the outputs vector of
-  sample ``k`` (of the state at the start of its step), ``x`` advanced in place;
-- ``outputs_along(p, states, out, rec)``: ``rec[k] = outputs(states[k])`` with
-  ``a_g = w = 0``.
+  sample of the histories ``a_g``, ``w``; ``rec[:, k]`` the outputs vector of
+  sample ``k`` (of the state at the start of its step; ``rec`` output-major),
+  ``x`` advanced in place;
+- ``outputs_along(p, states, out, rec)``: ``rec[:, k] = outputs(states[k])``
+  with ``a_g = w = 0``.
 """
 
 from __future__ import annotations

@@ -171,7 +171,7 @@ class DefinedVS(VirtualSystem):
         a, ww = inputs_of(a_g, w)
         x = self.initial_state() if x0 is None else state_of(x0).copy()
         kern = codegen.compiled(self.definition)
-        rec = np.empty((a.size, kern.n_outputs))
+        rec = np.empty((kern.n_outputs, a.size))  # output-major: each history a contiguous row, no copies
         work = np.empty(4 * max(self.n_states, 1))
         kern.simulate_records(
             self._params,
@@ -183,15 +183,15 @@ class DefinedVS(VirtualSystem):
             np.empty(kern.n_outputs),
             rec,
         )
-        fh = rec[:, kernels.OUT_FORCE + 1].copy() if self.definition.nonlinear_inputs else np.zeros(a.size)
+        fh = rec[kernels.OUT_FORCE + 1] if self.definition.nonlinear_inputs else np.zeros(a.size)
         return VSResponse(
             np.arange(a.size) * dt,
             a,
             ww,
-            rec[:, kernels.OUT_Z].copy(),
-            rec[:, kernels.OUT_DISP].copy(),
-            rec[:, kernels.OUT_VEL].copy(),
-            rec[:, kernels.OUT_FORCE].copy(),
+            rec[kernels.OUT_Z],
+            rec[kernels.OUT_DISP],
+            rec[kernels.OUT_VEL],
+            rec[kernels.OUT_FORCE],
             fh,
             x,
         )
@@ -200,9 +200,9 @@ class DefinedVS(VirtualSystem):
         """Isolator force [lbf] at each row of ``states`` (compiled: one call for the whole record)."""
         x = np.ascontiguousarray(states, dtype=float).reshape(-1, self.n_states)
         kern = codegen.compiled(self.definition)
-        rec = np.empty((x.shape[0], kern.n_outputs))
+        rec = np.empty((kern.n_outputs, x.shape[0]))
         kern.outputs_along(self._params, x, np.empty(kern.n_outputs), rec)
-        return rec[:, kernels.OUT_FORCE].copy()
+        return rec[kernels.OUT_FORCE]
 
     def linear_part(self) -> LinearPart:
         """Transfer functions of the linear part (Figures 5.3, 5.5), from the definition.
