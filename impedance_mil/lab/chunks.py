@@ -77,6 +77,11 @@ def run_in_chunks(
     bounds = chunk_bounds(n, size)
     if prepare is not None:
         prepare(*bounds[0])
+    if len(bounds) == 1:  # nothing to do beside it: no thread (a campaign's runs, bench_lab's)
+        done, cause, value = run_chunk(*bounds[0])
+        if finished is not None:
+            finished(bounds[0][0], done)
+        return done, cause, value
     with ThreadPoolExecutor(max_workers=1, thread_name_prefix="imil-loop") as worker:
         pending = worker.submit(run_chunk, *bounds[0])
         for i, (start, _) in enumerate(bounds):
