@@ -32,40 +32,14 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import numpy as np  # noqa: E402
+from cases import bench_case, pin_one_core  # noqa: E402
 
-from impedance_mil.design import design_controller, table_model, virtual_model  # noqa: E402
-from impedance_mil.implement import MILRuntime, discretize  # noqa: E402
 from impedance_mil.lab.loop import simulate, simulate_interface  # noqa: E402
 from impedance_mil.lab.reference import ScipyTable  # noqa: E402
-from impedance_mil.plant import TableParameters  # noqa: E402
 from impedance_mil.plant.linear import LinearTable  # noqa: E402
-from impedance_mil.plant.nonlinear import NonlinearTable  # noqa: E402
-from impedance_mil.signals import builtin_motion  # noqa: E402
-from impedance_mil.specimens import FluidVessel  # noqa: E402
-from impedance_mil.virtual import presets  # noqa: E402
 
 #: Issue 16, goal 3: the default MIL configuration at >= 1000x real time (it was 500x before).
 GOAL = 1000.0
-
-
-def _pin_one_core() -> str:
-    if hasattr(os, "sched_setaffinity"):
-        cpu = sorted(os.sched_getaffinity(0))[0]
-        os.sched_setaffinity(0, {cpu})
-        return f"pinned to CPU {cpu}"
-    return "not pinned"
-
-
-def _setup():
-    p = TableParameters.report_default()
-    gm = builtin_motion("elcentro").time_scaled(2).scaled_to_pga(0.6).resampled(p.loop_time)
-    vs = presets.get("SD2")
-    design = design_controller(
-        table_model(p), virtual_model(vs), form="standardized", fc_hz=80.0, emit_warnings=False
-    )
-    controller = discretize(design.H_uz, design.H_uw, p.loop_time, fc_hz=80.0)
-    runtime = MILRuntime(controller, vs=vs, precision="single")
-    return p, gm, runtime, NonlinearTable.from_linear(p), FluidVessel.report_default()
 
 
 def _best(fn, repeats: int = 3) -> float:
@@ -86,8 +60,9 @@ def main() -> None:
         help="simulated seconds run by the solve_ivp reference",
     )
     args = parser.parse_args()
-    where = _pin_one_core()
-    p, gm, runtime, table, vessel = _setup()
+    where = pin_one_core()
+    case = bench_case()
+    p, gm, runtime, table, vessel = case.params, case.motion, case.runtime, case.table, case.vessel
     t0 = time.perf_counter()
     simulate(table, a_g=gm.accel[:100], runtime=runtime, specimen=vessel)
     compile_s = time.perf_counter() - t0

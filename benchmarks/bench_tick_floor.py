@@ -39,20 +39,13 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).with_name("c")))
 import tick_floor as floor  # noqa: E402
+from cases import bench_case, pin_one_core  # noqa: E402
 
 from impedance_mil.lab.tick import run_loop  # noqa: E402
 
 #: Largest |C - numba| of a channel, relative to its peak, for "the same tick" (the
 #: transcription reproduces numba bit for bit on this case: measured 0).
 AGREEMENT = 1e-9
-
-
-def _pin_one_core() -> str:
-    if hasattr(os, "sched_setaffinity"):
-        cpu = sorted(os.sched_getaffinity(0))[0]
-        os.sched_setaffinity(0, {cpu})
-        return f"pinned to CPU {cpu}"
-    return "not pinned"
 
 
 def _touched(args: floor.LoopArgs) -> floor.LoopArgs:
@@ -108,8 +101,8 @@ def main() -> int:
     if compiler is None:
         print("bench_tick_floor: no C compiler (cc, gcc or clang) on PATH: nothing measured")
         return 0
-    where = _pin_one_core()
-    case = floor.bench_case()
+    where = pin_one_core()
+    case = bench_case()
     a_g = _motion(case, args.seconds)
     n = a_g.size
     t0 = time.perf_counter()

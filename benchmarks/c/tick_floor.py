@@ -24,8 +24,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from impedance_mil.design import design_controller, table_model, virtual_model
-from impedance_mil.implement import MILRuntime, discretize
 from impedance_mil.implement.vs_tick import vs_tick_function
 from impedance_mil.lab import loop as lab_loop
 from impedance_mil.lab.setup import (
@@ -48,10 +46,6 @@ from impedance_mil.lab.structures import (
 from impedance_mil.lab.substeps import resolve_substeps
 from impedance_mil.lab.tick import run_loop
 from impedance_mil.lab.trips import TripCause
-from impedance_mil.plant import TableParameters
-from impedance_mil.plant.nonlinear import NonlinearTable
-from impedance_mil.signals import builtin_motion
-from impedance_mil.specimens import FluidVessel
 from impedance_mil.virtual import presets
 
 #: The transcription.
@@ -87,32 +81,6 @@ def build(workdir: Path, flags: tuple[str, ...], compiler: str | None = None) ->
     return lib
 
 
-# ----------------------------------------------------------------- the case (bench_lab.py's)
-class BenchCase(NamedTuple):
-    """The benchmark case of ``benchmarks/bench_lab.py``: table, vessel, runtime and the motion [in/s^2]."""
-
-    table: NonlinearTable
-    vessel: FluidVessel
-    runtime: MILRuntime
-    a_g: np.ndarray
-    loop_time: float
-
-
-def bench_case() -> BenchCase:
-    """El Centro x2 at 0.6 g, SD2, vessel with 36 in of water, nonlinear table, float32 controller."""
-    p = TableParameters.report_default()
-    gm = builtin_motion("elcentro").time_scaled(2).scaled_to_pga(0.6).resampled(p.loop_time)
-    vs = presets.get("SD2")
-    design = design_controller(
-        table_model(p), virtual_model(vs), form="standardized", fc_hz=80.0, emit_warnings=False
-    )
-    controller = discretize(design.H_uz, design.H_uw, p.loop_time, fc_hz=80.0)
-    runtime = MILRuntime(controller, vs=vs, precision="single")
-    return BenchCase(
-        NonlinearTable.from_linear(p), FluidVessel.report_default(), runtime, np.array(gm.accel), p.loop_time
-    )
-
-
 class LoopArgs(NamedTuple):
     """The structures ``run_loop`` takes: ``(plant, control, vs_tick, log)``, before its loop range."""
 
@@ -122,8 +90,9 @@ class LoopArgs(NamedTuple):
     log: Records
 
 
-def loop_args(case: BenchCase, a_g: np.ndarray | None = None, seed: int = 0) -> LoopArgs:
-    """Fresh ``run_loop`` arguments as :func:`~impedance_mil.lab.loop.simulate` makes them.
+def loop_args(case, a_g: np.ndarray | None = None, seed: int = 0) -> LoopArgs:
+    """Fresh ``run_loop`` arguments as :func:`~impedance_mil.lab.loop.simulate` makes them, for ``case``
+    (``benchmarks/cases.py``'s ``BenchCase``: its table, vessel, runtime and ``a_g``).
 
     Its defaults: load-cell feedback, default sensors (Table 7.1, 16 bits,
     1 mV noise), default interlocks, ``substeps="auto"``, output delay 1,
@@ -170,6 +139,22 @@ _i64 = ctypes.c_int64
 _f64 = ctypes.c_double
 
 
+#: The interlock limits the C case takes as they are, by their names in ``LimitValues``.
+LIMIT_FIELDS = (
+    "stroke",
+    "velocity",
+    "actuator_force",
+    "valve_saturation_time",
+    "divergence",
+    "valve_duty",
+    "valve_current",
+    "command_slew",
+    "interlock_window",
+    "acceleration",
+    "pressure",
+)
+
+
 class _Case(ctypes.Structure):
     # Field by field the tick_floor_case of tick_floor.c (its size is checked on load).
     _fields_ = [
@@ -195,20 +180,10 @@ class _Case(ctypes.Structure):
         ("z_channel", _i64),
         ("x_channel", _i64),
         ("dp_channel", _i64),
+        *((name, _f64) for name in LIMIT_FIELDS),
         *(
             (name, _f64)
             for name in (
-                "stroke",
-                "velocity",
-                "actuator_force",
-                "valve_saturation_time",
-                "divergence",
-                "valve_duty",
-                "valve_current",
-                "command_slew",
-                "interlock_window",
-                "acceleration",
-                "pressure",
                 "hf_b0",
                 "hf_b1",
                 "hf_b2",
@@ -330,22 +305,7 @@ class CLoop:
             z_channel=sens.z_channel,
             x_channel=sens.x_channel,
             dp_channel=sens.dp_channel,
-            **{
-                name: getattr(lim, name)
-                for name in (
-                    "stroke",
-                    "velocity",
-                    "actuator_force",
-                    "valve_saturation_time",
-                    "divergence",
-                    "valve_duty",
-                    "valve_current",
-                    "command_slew",
-                    "interlock_window",
-                    "acceleration",
-                    "pressure",
-                )
-            },
+            **{name: getattr(lim, name) for name in LIMIT_FIELDS},
             hf_b0=hf.b0,
             hf_b1=hf.b1,
             hf_b2=hf.b2,

@@ -18,10 +18,18 @@ import pytest
 
 from impedance_mil.lab.structures import MODE_TRACK
 
-_BINDING = Path(__file__).resolve().parents[2] / "benchmarks" / "c" / "tick_floor.py"
-_spec = importlib.util.spec_from_file_location("tick_floor_binding", _BINDING)
-floor = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(floor)
+_BENCHMARKS = Path(__file__).resolve().parents[2] / "benchmarks"
+
+
+def _module(name: str, path: Path):
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+floor = _module("tick_floor_binding", _BENCHMARKS / "c" / "tick_floor.py")
+cases = _module("bench_cases", _BENCHMARKS / "cases.py")
 
 pytestmark = pytest.mark.skipif(floor.c_compiler() is None, reason="no C compiler (cc, gcc or clang)")
 
@@ -31,7 +39,7 @@ N_LOOPS = 8000
 
 @pytest.fixture(scope="module")
 def case():
-    return floor.bench_case()
+    return cases.bench_case()
 
 
 @pytest.fixture(scope="module")
